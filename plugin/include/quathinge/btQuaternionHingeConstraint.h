@@ -1,0 +1,298 @@
+/*
+QuatHinge — a quaternion hinge constraint for the Bullet physics engine.
+
+btQuaternionHingeConstraint is a drop-in replacement for btHingeConstraint: same constructors, same public methods,
+same sign conventions. Its two angular rows are the exact derivative of the relative-quaternion hinge equations
+(MATH.md Q2–Q10), so they keep full strength at every hinge angle, including ±π; its limits act on a multi-turn angle
+(ranges across ±π and wider than a turn work and never flip); and it adds a position servo, a spring-damper set in
+hertz, and joint friction. Every row it reports is one it needs: a bare joint is 5 rows (2 when angular-only), a
+limit row exists only while the limit is active, a drive row only while a drive is on.
+
+Differences from btHingeConstraint are listed in README.md ("Differences from btHingeConstraint").
+
+Errors: every constructor and setter checks its arguments and throws std::invalid_argument whose message names the
+function and the parameter ("btQuaternionHingeConstraint::setLimit: low (2) > high (1)"). Nothing invalid is stored,
+so nothing invalid reaches the solver. State that enters from outside (a body's NaN velocity or transform) is checked
+in getInfo1: the joint then reports no rows, disables itself and records why (getFault()).
+*/
+#ifndef BT_QUATERNION_HINGE_CONSTRAINT_H
+#define BT_QUATERNION_HINGE_CONSTRAINT_H
+
+#include "LinearMath/btQuaternion.h"
+#include "LinearMath/btTransform.h"
+#include "LinearMath/btVector3.h"
+#include "BulletDynamics/ConstraintSolver/btTypedConstraint.h"
+
+class btHingeConstraint;
+class btDynamicsWorld;
+class btIDebugDraw;
+
+/// Constraint type reported by getConstraintType(). It is none of the types that
+/// btDiscreteDynamicsWorld::debugDrawConstraint downcasts (MATH.md, "Bullet's conventions"); the joint draws itself
+/// with btQuaternionHingeConstraint::debugDraw.
+const btTypedConstraintType QUATERNION_HINGE_CONSTRAINT_TYPE = btTypedConstraintType(MAX_CONSTRAINT_TYPE + 64);
+
+/// How the axial drive row (at most one) behaves.
+enum btQuaternionHingeDriveMode
+{
+	BT_QHINGE_DRIVE_OFF = 0,       ///< no drive row
+	BT_QHINGE_DRIVE_VELOCITY = 1,  ///< btHingeConstraint's angular motor: target velocity, maximum impulse per step
+	BT_QHINGE_DRIVE_SERVO = 2,     ///< holds a target (multi-turn) angle with a maximum speed and a maximum torque
+	BT_QHINGE_DRIVE_SPRING = 3     ///< implicit spring-damper toward a rest angle, set by frequency and damping ratio
+};
+
+/// Bits of getFlags(): which per-joint ERP/CFM values override the solver's globals (btHingeFlags' meaning, extended
+/// per row). Bit (BT_QHINGE_FLAGS_ERP_ROW0 << r) / (BT_QHINGE_FLAGS_CFM_ROW0 << r) is row kind r (0..5, see setParam).
+enum btQuaternionHingeFlags
+{
+	BT_QHINGE_FLAGS_CFM_STOP = 1,  ///< same value as BT_HINGE_FLAGS_CFM_STOP
+	BT_QHINGE_FLAGS_ERP_STOP = 2,  ///< same value as BT_HINGE_FLAGS_ERP_STOP
+	BT_QHINGE_FLAGS_CFM_NORM = 4,  ///< same value as BT_HINGE_FLAGS_CFM_NORM: some row has its own CFM
+	BT_QHINGE_FLAGS_ERP_NORM = 8,  ///< same value as BT_HINGE_FLAGS_ERP_NORM: some row has its own ERP
+	BT_QHINGE_FLAGS_ERP_ROW0 = 16,
+	BT_QHINGE_FLAGS_CFM_ROW0 = 16 << 6
+};
+
+/// Why a joint disabled itself (getFault()).
+enum btQuaternionHingeFault
+{
+	BT_QHINGE_FAULT_NONE = 0,
+	BT_QHINGE_FAULT_NONFINITE_BODY_STATE = 1,  ///< a body's transform or velocity was NaN/Inf when the solver asked for rows
+	BT_QHINGE_FAULT_NO_DYNAMIC_BODY = 2,       ///< both bodies have zero inverse mass and inertia: no row can act
+	BT_QHINGE_FAULT_FRAME_EDITED_INVALID = 3   ///< a frame edited through a non-const reference is not a rigid transform
+};
+
+/// The joint's whole configuration: a plain struct with defaults. Angles are in the getHingeAngle() convention
+/// (radians; sign as btHingeConstraint's). A live joint hands its settings back (getSettings()), and a joint can be
+/// built from them (constructor below), which is how serialization restores it.
+struct btQuaternionHingeSettings
+{
+	/// Joint frames in body A's and body B's local (centre-of-mass) frames. Origin: the pivot (m). Basis: orthonormal,
+	/// right-handed; its z column is the hinge axis, x and y span the plane orthogonal to it (MATH.md, Notation).
+	btTransform frameInA = btTransform::getIdentity();
+	btTransform frameInB = btTransform::getIdentity();
+	/// btHingeConstraint's useReferenceFrameA: false makes getHingeAngle() the negative of the quaternion angle θ (Q11).
+	bool useReferenceFrameA = false;
+	/// Only the two angular rows (no point-to-point rows): the joint aligns axes but does not hold the pivot.
+	bool angularOnly = false;
+	/// Kept for btHingeConstraint source compatibility; the quaternion rows have a single exact form, so both values
+	/// give the same rows (documented in README, "Differences").
+	bool useFrameOffset = true;
+
+	/// Limit on the multi-turn angle (rad). Active when hasLimit. lowerLimit ≤ upperLimit; the range may be wider than
+	/// 2π and may straddle ±π. A limit with lowerLimit == upperLimit locks the hinge.
+	bool hasLimit = false;
+	btScalar lowerLimit = 0;
+	btScalar upperLimit = 0;
+	/// (0, 1]. The limit row is switched on speculatively once the angle is within (1 − softness)·(upper − lower)/2 of a
+	/// stop; until the stop is reached it only forbids crossing it within the step. 1: row only at or past the stop.
+	btScalar limitSoftness = btScalar(0.9);
+	/// [0, 1]. Multiplies the limit row's error correction and bounce, as btHingeConstraint's biasFactor.
+	btScalar limitBiasFactor = btScalar(0.3);
+	/// [0, 1]. Bounce on hitting a stop (btHingeConstraint's relaxationFactor); restitution = bias · relaxation.
+	btScalar limitRelaxationFactor = btScalar(1.0);
+
+	btQuaternionHingeDriveMode driveMode = BT_QHINGE_DRIVE_OFF;
+	/// Velocity drive: target angular velocity (rad/s) and maximum impulse per step (N·m·s, ≥ 0), as btHingeConstraint.
+	btScalar motorTargetVelocity = 0;
+	btScalar maxMotorImpulse = 0;
+	/// Servo: target multi-turn angle (rad), maximum speed (rad/s, > 0), maximum torque (N·m, ≥ 0).
+	btScalar servoTargetAngle = 0;
+	btScalar servoMaxSpeed = SIMD_INFINITY;
+	btScalar servoMaxTorque = SIMD_INFINITY;
+	/// Spring: rest angle (rad), frequency (Hz, > 0), damping ratio (≥ 0; 1 is critical).
+	btScalar springRestAngle = 0;
+	btScalar springFrequency = 1;
+	btScalar springDampingRatio = 1;
+	/// Joint friction: maximum friction torque (N·m, ≥ 0); 0 is off (no row).
+	btScalar maxFrictionTorque = 0;
+
+	/// Per-row ERP/CFM overrides; a row kind uses the solver's global value unless its bit is set in flags.
+	/// Row kinds: 0..2 linear, 3..4 angular (quaternion), 5 axial (drive). STOP values act on the limit row.
+	btScalar rowErp[6] = {0, 0, 0, 0, 0, 0};
+	btScalar rowCfm[6] = {0, 0, 0, 0, 0, 0};
+	btScalar stopErp = 0;
+	btScalar stopCfm = 0;
+	int flags = 0;
+};
+
+ATTRIBUTE_ALIGNED16(class)
+btQuaternionHingeConstraint : public btTypedConstraint
+{
+public:
+	BT_DECLARE_ALIGNED_ALLOCATOR();
+
+	// ---- Constructors: the four of btHingeConstraint, same arguments, same meaning ----------------------------------
+
+	/// Pivots and axes in A's and B's local frames. The frames' x axes are chosen as btHingeConstraint chooses them, so
+	/// the zero angle is the same as stock's.
+	btQuaternionHingeConstraint(btRigidBody & rbA, btRigidBody & rbB, const btVector3& pivotInA, const btVector3& pivotInB,
+								const btVector3& axisInA, const btVector3& axisInB, bool useReferenceFrameA = false);
+	/// Body A hinged to the world (Bullet's fixed body) at pivotInA about axisInA.
+	btQuaternionHingeConstraint(btRigidBody & rbA, const btVector3& pivotInA, const btVector3& axisInA,
+								bool useReferenceFrameA = false);
+	btQuaternionHingeConstraint(btRigidBody & rbA, btRigidBody & rbB, const btTransform& rbAFrame,
+								const btTransform& rbBFrame, bool useReferenceFrameA = false);
+	btQuaternionHingeConstraint(btRigidBody & rbA, const btTransform& rbAFrame, bool useReferenceFrameA = false);
+
+	/// The equivalent of an existing stock hinge: same bodies, frames, limits, motor, ERP/CFM parameters, breaking
+	/// threshold, enabled state, user ids, solver-iteration override and joint feedback pointer.
+	explicit btQuaternionHingeConstraint(const btHingeConstraint& stock);
+
+	/// From a complete configuration (what getSettings() returns). rbB may be btTypedConstraint::getFixedBody().
+	btQuaternionHingeConstraint(btRigidBody & rbA, btRigidBody & rbB, const btQuaternionHingeSettings& settings);
+
+	// ---- btTypedConstraint --------------------------------------------------------------------------------------------
+	virtual void buildJacobian() {}
+	virtual void getInfo1(btConstraintInfo1 * info);
+	virtual void getInfo2(btConstraintInfo2 * info);
+	/// As getInfo1 (stock's variant reports a fixed 6; the rows here are always the ones needed).
+	void getInfo1NonVirtual(btConstraintInfo1 * info);
+	/// As getInfo2, for given transforms and angular velocities (used by btHingeConstraint-style callers).
+	void getInfo2NonVirtual(btConstraintInfo2 * info, const btTransform& transA, const btTransform& transB,
+							const btVector3& angVelA, const btVector3& angVelB);
+	void updateRHS(btScalar /*timeStep*/) {}
+
+	/// ERP / STOP_ERP / CFM / STOP_CFM. axis −1: every row kind (ERP, CFM) or the limit row (STOP_*). axis 0..2: the
+	/// linear rows, 3..4: the angular rows, 5: the axial drive row (STOP_* accept only −1 and 5). ERP in [0, 1],
+	/// CFM in [0, 1) (Bullet's solver diverges on a row with CFM ≥ 1). Anything else throws.
+	virtual void setParam(int num, btScalar value, int axis = -1);
+	/// The value set for (num, axis); for axis −1 the value set for all rows. Throws if num or axis is invalid, or if
+	/// no value was set for that row (the global value is then in effect).
+	virtual btScalar getParam(int num, int axis = -1) const;
+	virtual int getFlags() const { return m_settings.flags; }
+
+	/// Writes btQuaternionHingeConstraintData (see btQuaternionHingeSerialization.h): a btHingeConstraintData that any
+	/// Bullet reader loads as a stock hinge, followed by everything else a QuatHinge reader needs to restore the joint.
+	virtual int calculateSerializeBufferSize() const;
+	virtual const char* serialize(void* dataBuffer, btSerializer* serializer) const;
+
+	// ---- btHingeConstraint's public methods ----------------------------------------------------------------------------
+	const btRigidBody& getRigidBodyA() const { return m_rbA; }
+	const btRigidBody& getRigidBodyB() const { return m_rbB; }
+	btRigidBody& getRigidBodyA() { return m_rbA; }
+	btRigidBody& getRigidBodyB() { return m_rbB; }
+
+	/// Frames (non-const access as in btHingeConstraint: an edit is re-validated before the next solve).
+	btTransform& getFrameOffsetA();
+	btTransform& getFrameOffsetB();
+	btTransform& getAFrame() { return getFrameOffsetA(); }
+	btTransform& getBFrame() { return getFrameOffsetB(); }
+	const btTransform& getAFrame() const { return m_settings.frameInA; }
+	const btTransform& getBFrame() const { return m_settings.frameInB; }
+	void setFrames(const btTransform& frameA, const btTransform& frameB);
+	/// As btHingeConstraint::setAxis: new hinge axis in A (non-zero), B's frame re-derived from the current pose.
+	void setAxis(btVector3 & axisInA);
+
+	void setAngularOnly(bool angularOnly) { m_settings.angularOnly = angularOnly; }
+	bool getAngularOnly() const { return m_settings.angularOnly; }
+	bool getUseFrameOffset() const { return m_settings.useFrameOffset; }
+	void setUseFrameOffset(bool frameOffsetOnOff) { m_settings.useFrameOffset = frameOffsetOnOff; }
+	bool getUseReferenceFrameA() const { return m_settings.useReferenceFrameA; }
+	void setUseReferenceFrameA(bool useReferenceFrameA);
+
+	/// btHingeConstraint's motor: a velocity drive. enableAngularMotor(false, …) turns the velocity drive off.
+	void enableAngularMotor(bool enableMotor, btScalar targetVelocity, btScalar maxMotorImpulse);
+	void enableMotor(bool enableMotor);
+	void setMaxMotorImpulse(btScalar maxMotorImpulse);
+	void setMotorTargetVelocity(btScalar motorTargetVelocity);
+	/// As stock: sets the motor's target velocity so that the angle reaches targetAngle (clamped to the limit) in dt.
+	/// Must be called every tick; setServoTarget holds an angle without that.
+	void setMotorTarget(btScalar targetAngle, btScalar dt);
+	/// qAinB: rotation of body A relative to body B, as stock.
+	void setMotorTarget(const btQuaternion& qAinB, btScalar dt);
+	bool getEnableAngularMotor() const { return m_settings.driveMode == BT_QHINGE_DRIVE_VELOCITY; }
+	btScalar getMotorTargetVelocity() const { return m_settings.motorTargetVelocity; }
+	btScalar getMaxMotorImpulse() const { return m_settings.maxMotorImpulse; }
+
+	/// Limit on the multi-turn angle, low ≤ high (radians; may straddle ±π, may be wider than 2π). softness,
+	/// biasFactor, relaxationFactor as documented in btQuaternionHingeSettings. Throws on low > high (use
+	/// removeLimit() to free the joint) or on a value outside its range. If the current multi-turn angle is outside
+	/// [low, high], it is moved by whole turns to the branch nearest the range (so a stock-style range across ±π means
+	/// what it means for btHingeConstraint).
+	void setLimit(btScalar low, btScalar high, btScalar softness = btScalar(0.9), btScalar biasFactor = btScalar(0.3),
+				  btScalar relaxationFactor = btScalar(1.0));
+	void removeLimit();
+	bool hasLimit() const { return m_settings.hasLimit; }
+	btScalar getLowerLimit() const { return m_settings.lowerLimit; }
+	btScalar getUpperLimit() const { return m_settings.upperLimit; }
+	btScalar getLimitSoftness() const { return m_settings.limitSoftness; }
+	btScalar getLimitBiasFactor() const { return m_settings.limitBiasFactor; }
+	btScalar getLimitRelaxationFactor() const { return m_settings.limitRelaxationFactor; }
+	/// As stock: whether the limit row was active at the last getInfo1/testLimit, and its sign (+1 at the lower stop,
+	/// −1 at the upper stop, 0 when free).
+	int getSolveLimit() const { return m_limitSign != 0 ? 1 : 0; }
+	btScalar getLimitSign() const { return btScalar(m_limitSign); }
+	/// Updates the limit state from the given transforms (as stock).
+	void testLimit(const btTransform& transA, const btTransform& transB);
+
+	/// The hinge angle in (−π, π], stock's convention (Q11 with stock's sign: −θ unless useReferenceFrameA).
+	btScalar getHingeAngle() const;
+	btScalar getHingeAngle(const btTransform& transA, const btTransform& transB) const;
+
+	// ---- Beyond btHingeConstraint -------------------------------------------------------------------------------------
+	/// The multi-turn angle (rad, getHingeAngle's sign): continuous across ±π, counts whole turns (Q11). It is tracked
+	/// at every solver step while a limit, servo or spring needs it, and from the first call of this function on.
+	btScalar getMultiTurnAngle();
+	/// Declares the current pose to be at multi-turn angle `angle` (must equal getHingeAngle() modulo 2π within 1e-3
+	/// rad; throws otherwise).
+	void setMultiTurnAngle(btScalar angle);
+
+	/// Servo: holds targetAngle (multi-turn, rad) moving at most maxSpeed (rad/s, > 0) with at most maxTorque (N·m,
+	/// ≥ 0). Replaces any other drive. One call; no per-tick update needed.
+	void setServoTarget(btScalar targetAngle, btScalar maxSpeed = SIMD_INFINITY, btScalar maxTorque = SIMD_INFINITY);
+	/// Spring-damper toward restAngle (rad): frequency (Hz, > 0) and damping ratio (≥ 0), integrated implicitly
+	/// (unconditionally stable for the pair of bodies). Replaces any other drive.
+	void setSpring(btScalar restAngle, btScalar frequencyHz, btScalar dampingRatio);
+	/// Turns off whatever drive is on (velocity motor, servo or spring).
+	void disableDrive();
+	btQuaternionHingeDriveMode getDriveMode() const { return m_settings.driveMode; }
+	/// Joint friction: maximum friction torque (N·m, ≥ 0); 0 turns it off.
+	void setMaxFrictionTorque(btScalar maxTorque);
+	btScalar getMaxFrictionTorque() const { return m_settings.maxFrictionTorque; }
+
+	const btQuaternionHingeSettings& getSettings() const { return m_settings; }
+	btQuaternionHingeFault getFault() const { return m_fault; }
+	/// Clears a fault and re-enables the joint (after the user repaired the bodies' state).
+	void clearFault();
+
+	/// Rows reported by the last getInfo1 (for tests and statistics).
+	int getNumRowsLastStep() const { return m_numRows; }
+
+	/// Draws the joint: pivot frames, the hinge axis and, with a limit, its arc (within one turn).
+	void debugDraw(btIDebugDraw * drawer, btScalar size = btScalar(0.3)) const;
+
+private:
+	void initFromSettings();
+	void validateFramesIfEdited();
+	void rebranchForLimit();
+	void updateMultiTurnAngle(btScalar rawUserAngle);
+	bool needsAngle() const;
+	void computeRowCount(btConstraintInfo1 * info, const btTransform& transA, const btTransform& transB);
+	void fillRows(btConstraintInfo2 * info, const btTransform& transA, const btTransform& transB,
+				  const btVector3& angVelA, const btVector3& angVelB);
+	btScalar rowErp(int kind, btScalar globalErp) const;
+	btScalar rowCfm(int kind, btScalar globalCfm) const;
+
+	btQuaternionHingeSettings m_settings;
+	btScalar m_multiTurnAngle;     // user convention (getHingeAngle's sign), continuous
+	bool m_multiTurnValid;         // m_multiTurnAngle tracks the pose
+	bool m_trackAlways;            // the user asked for the multi-turn angle once
+	bool m_framesMayHaveChanged;   // a non-const frame reference was handed out
+	int m_limitSign;               // +1 lower stop row, −1 upper stop row, 0 none (as stock's getLimitSign)
+	bool m_limitSpeculative;       // the limit row is on but the stop is not yet reached
+	int m_numRows;
+	btQuaternionHingeFault m_fault;
+};
+
+/// Replaces every btHingeConstraint in `world` by its equivalent btQuaternionHingeConstraint (same place in the
+/// world's constraint list order is not kept: each is removed and the replacement added, with the same
+/// disableCollisionsBetweenLinkedBodies choice as far as the world can tell it). Returns how many it replaced.
+/// Ownership: the world never owned constraints. The replacements are allocated with new and handed to the caller:
+/// each removed stock hinge is appended to *removedStock (the caller deletes them; if removedStock is null they are
+/// deleted here), and each new joint is appended to *added (if not null). The caller deletes the new joints after
+/// removing them from the world, as it would have deleted the stock ones.
+int btReplaceHingeConstraints(btDynamicsWorld * world, btAlignedObjectArray<btQuaternionHingeConstraint*>* added = 0,
+							  btAlignedObjectArray<btHingeConstraint*>* removedStock = 0);
+
+#endif  // BT_QUATERNION_HINGE_CONSTRAINT_H

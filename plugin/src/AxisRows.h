@@ -1,0 +1,52 @@
+// The axis part: limit, drive (velocity motor, servo, spring) and friction rows along the hinge axis.
+//
+// Each is one row J_α = σ t along the exact gradient of the angle (HingeAngle.h: θ̇ = Ω·t, α = σθ in the
+// getHingeAngle convention, σ = +1 with useReferenceFrameA, else −1), so the solver drives α̇ = J_α·v:
+//   limit (lower stop, impulse ≥ 0):   α̇ ≥ b·max(erp_stop·fps·(low − α), −r·α̇₀)   at or past the stop
+//                                      α̇ ≥ −(α − low)·fps                          speculative, before the stop
+//   (upper stop mirrored, impulse ≤ 0; low == high: bilateral lock). b = biasFactor, r = relaxationFactor (bounce),
+//   as btHingeConstraint's row; the speculative form lets the joint reach the stop within the step but not pass it.
+//   velocity motor:  α̇ = v_target, |impulse| ≤ maxMotorImpulse                   (btHingeConstraint's motor)
+//   servo:           α̇ = clamp((α_target − α)·fps, ±maxSpeed), |impulse| ≤ maxTorque/fps   (reaches in one step)
+//   spring:          implicit Euler of α̈ = −ω²(α − rest) − 2ζω α̇, ω = 2πf, for the pair's effective inertia:
+//                    α̇₁ = (α̇₀ − hω²(α − rest)) / (1 + 2ζωh + h²ω²), applied as the fixed impulse m_eff (α̇₁ − α̇₀)
+//                    (row bounds lower = upper = that impulse; Bullet's CFM cannot express a soft row: its PGS update
+//                    diverges for CFM ≥ 1, which soft springs need).
+//   friction:        α̇ = 0, |impulse| ≤ maxFrictionTorque/fps.
+#ifndef QUATHINGE_AXIS_ROWS_H
+#define QUATHINGE_AXIS_ROWS_H
+
+#include "quathinge/btQuaternionHingeConstraint.h"
+
+namespace quathinge
+{
+/// Which stop (if any) needs a row at angle α.
+struct LimitState
+{
+	int sign = 0;              ///< +1 lower stop, −1 upper stop, 0 no row (btHingeConstraint::getLimitSign's values)
+	bool locked = false;       ///< low == high: one bilateral row
+	bool speculative = false;  ///< the stop is not reached yet (distance > 0)
+	btScalar distance = 0;     ///< α − low (lower) or high − α (upper); negative when past the stop
+};
+LimitState evaluateLimit(const btQuaternionHingeSettings& s, btScalar angle);
+
+/// One axial row's right-hand side and impulse bounds.
+struct AxialRow
+{
+	btScalar error = 0;  ///< target α̇ (m_constraintError)
+	btScalar lower = 0;  ///< impulse bounds
+	btScalar upper = 0;
+};
+
+AxialRow limitRow(const btQuaternionHingeSettings& s, const LimitState& limit, btScalar rate, btScalar fps,
+				  btScalar stopErp);
+/// Whether the drive currently needs a row (a drive with a zero impulse bound does nothing and gets no row).
+bool driveActive(const btQuaternionHingeSettings& s);
+/// invEffectiveMass: J_α M⁻¹ J_αᵀ of the pair (for the spring).
+AxialRow driveRow(const btQuaternionHingeSettings& s, btScalar angle, btScalar rate, btScalar fps,
+				  btScalar invEffectiveMass);
+AxialRow frictionRow(const btQuaternionHingeSettings& s, btScalar fps);
+
+}  // namespace quathinge
+
+#endif

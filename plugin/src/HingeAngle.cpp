@@ -1,0 +1,60 @@
+// The hinge angle and the multi-turn angle (MATH.md Q11). Derivation: HingeAngle.h.
+#include "HingeAngle.h"
+
+#include <cmath>
+
+namespace quathinge
+{
+btScalar wrapAngle(btScalar angle)
+{
+	// into (−π, π]
+	angle = btFmod(angle, SIMD_2_PI);
+	if (angle <= -SIMD_PI) angle += SIMD_2_PI;
+	else if (angle > SIMD_PI) angle -= SIMD_2_PI;
+	return angle;
+}
+
+btScalar hingeAngle(const btQuaternion& q)
+{
+	btScalar w = q.w(), z = q.z();
+	// (Q3, Q11) the representative with q0 ≥ 0 (and q_z ≥ 0 when q0 = 0) gives θ ∈ (−π, π].
+	if (w < 0 || (w == 0 && z < 0))
+	{
+		w = -w;
+		z = -z;
+	}
+	return btScalar(2) * btAtan2(z, w);
+}
+
+btVector3 hingeAngleGradient(const btQuaternion& q)
+{
+	const btScalar w = q.w(), x = q.x(), y = q.y(), z = q.z();
+	const btScalar c2 = w * w + z * z;
+	if (c2 <= SIMD_EPSILON * SIMD_EPSILON) return btVector3(0, 0, 1);  // exactly flipped: θ undefined
+	const btScalar inv = btScalar(1) / c2;
+	return btVector3((w * y + z * x) * inv, (z * y - w * x) * inv, btScalar(1));
+}
+
+btScalar nearestBranch(btScalar raw, btScalar low, btScalar high)
+{
+	const bool lowFinite = std::isfinite(low), highFinite = std::isfinite(high);
+	if (!lowFinite && !highFinite) return raw;
+	const btScalar center = !lowFinite ? high - SIMD_PI : !highFinite ? low + SIMD_PI : btScalar(0.5) * (low + high);
+	const btScalar k0 = btScalar(std::floor((center - raw) / SIMD_2_PI + btScalar(0.5)));
+	btScalar best = raw + k0 * SIMD_2_PI;
+	btScalar bestDistance = SIMD_INFINITY;
+	for (int dk = -1; dk <= 1; ++dk)
+	{
+		const btScalar candidate = raw + (k0 + btScalar(dk)) * SIMD_2_PI;
+		const btScalar distance = candidate < low ? low - candidate : candidate > high ? candidate - high : btScalar(0);
+		// inside beats outside; among inside, the one nearest the centre (k0 itself)
+		if (distance < bestDistance || (distance == 0 && dk == 0))
+		{
+			best = candidate;
+			bestDistance = distance;
+		}
+	}
+	return best;
+}
+
+}  // namespace quathinge

@@ -1,0 +1,39 @@
+// The hinge angle and the multi-turn angle (MATH.md Q11).
+//
+//   (Q11) θ = 2·atan2(q_v·ẑ, q0) with q0 ≥ 0, θ ∈ (−π, π];   θ_k = θ_{k−1} + wrap(θ_raw − θ_{k−1}), wrap into (−π, π].
+//
+// θ is the twist of q about the hinge axis ẑ (the swing–twist decomposition q = swing ⊗ twist), so it is defined
+// whenever the axes are not exactly flipped, and equals the rotation about the hinge on the hinge.
+// Its exact derivative (from q̇ = ½ Ω ⊗ q, Q5):
+//   θ̇ = Ω·t,  t = ẑ + ((q0 q_y + q_z q_x), (q_z q_y − q0 q_x), 0) / (q0² + q_z²)    (in joint frame A)
+// which is ẑ on the hinge; the axial (limit and drive) rows use t, so they are exact too.
+// Stock convention: btHingeConstraint::getHingeAngle() returns −θ unless useReferenceFrameA, where it returns θ.
+// The multi-turn update relies on the relative rotation per step staying below π; Bullet's integrator clamps each
+// body's rotation to π/4 per step (ANGULAR_MOTION_THRESHOLD), so relative rotation stays below π/2.
+#ifndef QUATHINGE_HINGE_ANGLE_H
+#define QUATHINGE_HINGE_ANGLE_H
+
+#include "LinearMath/btQuaternion.h"
+#include "LinearMath/btScalar.h"
+#include "LinearMath/btVector3.h"
+
+namespace quathinge
+{
+/// Wraps an angle into (−π, π].
+btScalar wrapAngle(btScalar angle);
+
+/// (Q11) θ ∈ (−π, π] from the relative quaternion q (either sign of q).
+btScalar hingeAngle(const btQuaternion& q);
+
+/// ∂θ/∂Ω in joint frame A (see above); ẑ when the axes are exactly flipped (θ undefined there).
+btVector3 hingeAngleGradient(const btQuaternion& q);
+
+/// (Q11) the continuous update θ_k = θ_{k−1} + wrap(θ_raw − θ_{k−1}).
+inline btScalar continueAngle(btScalar previous, btScalar raw) { return previous + wrapAngle(raw - previous); }
+
+/// The angle θ_raw + 2πk closest to the interval [low, high] (inside it when some branch is).
+btScalar nearestBranch(btScalar raw, btScalar low, btScalar high);
+
+}  // namespace quathinge
+
+#endif

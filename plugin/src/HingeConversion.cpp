@@ -1,0 +1,85 @@
+// Upgrading existing apps and .bullet files: the quaternion hinge equivalent to a stock btHingeConstraint, and the
+// replacement of every stock hinge in a world.
+#include "quathinge/btQuaternionHingeConstraint.h"
+
+#include "BulletDynamics/ConstraintSolver/btHingeConstraint.h"
+#include "BulletDynamics/Dynamics/btDynamicsWorld.h"
+#include "BulletDynamics/Dynamics/btRigidBody.h"
+
+namespace
+{
+// btHingeConstraint's getters are partly non-const; reading them does not change it.
+btHingeConstraint& mutableStock(const btHingeConstraint& stock) { return const_cast<btHingeConstraint&>(stock); }
+
+bool bodyRefersTo(btRigidBody& body, const btTypedConstraint* constraint)
+{
+	for (int i = 0; i < body.getNumConstraintRefs(); ++i)
+		if (body.getConstraintRef(i) == constraint) return true;
+	return false;
+}
+}  // namespace
+
+btQuaternionHingeConstraint::btQuaternionHingeConstraint(const btHingeConstraint& stock)
+	: btQuaternionHingeConstraint(mutableStock(stock).getRigidBodyA(), mutableStock(stock).getRigidBodyB(),
+								  stock.getAFrame(), stock.getBFrame(), stock.getUseReferenceFrameA())
+{
+	btHingeConstraint& s = mutableStock(stock);
+	setAngularOnly(s.getAngularOnly());
+	setUseFrameOffset(s.getUseFrameOffset());
+	if (stock.hasLimit())
+	{
+		// Stock keeps a centre and a half range and reports both ends wrapped into (−π, π]; a range across ±π then
+		// comes back with high < low and is unwrapped here.
+		btScalar low = stock.getLowerLimit(), high = stock.getUpperLimit();
+		if (high < low) high += SIMD_2_PI;
+		setLimit(low, high, stock.getLimitSoftness(), stock.getLimitBiasFactor(), stock.getLimitRelaxationFactor());
+	}
+	else if (stock.getLowerLimit() == stock.getUpperLimit())
+	{
+		// stock locks the joint when the half range is exactly 0 (btAngularLimit::test uses halfRange ≥ 0)
+		setLimit(stock.getLowerLimit(), stock.getUpperLimit(), stock.getLimitSoftness(), stock.getLimitBiasFactor(),
+				 stock.getLimitRelaxationFactor());
+	}
+	enableAngularMotor(s.getEnableAngularMotor(), s.getMotorTargetVelocity(), s.getMaxMotorImpulse());
+
+	const int flags = stock.getFlags();
+	// Stock's normal ERP acts on every row; its normal CFM only on the motor row (axis 5).
+	if (flags & BT_HINGE_FLAGS_ERP_NORM) setParam(BT_CONSTRAINT_ERP, stock.getParam(BT_CONSTRAINT_ERP));
+	if (flags & BT_HINGE_FLAGS_CFM_NORM) setParam(BT_CONSTRAINT_CFM, stock.getParam(BT_CONSTRAINT_CFM), 5);
+	if (flags & BT_HINGE_FLAGS_ERP_STOP) setParam(BT_CONSTRAINT_STOP_ERP, stock.getParam(BT_CONSTRAINT_STOP_ERP));
+	if (flags & BT_HINGE_FLAGS_CFM_STOP) setParam(BT_CONSTRAINT_STOP_CFM, stock.getParam(BT_CONSTRAINT_STOP_CFM));
+
+	setBreakingImpulseThreshold(stock.getBreakingImpulseThreshold());
+	setEnabled(stock.isEnabled());
+	setUserConstraintType(stock.getUserConstraintType());
+	setUserConstraintPtr(mutableStock(stock).getUserConstraintPtr());  // shares storage with the user id
+	setOverrideNumSolverIterations(stock.getOverrideNumSolverIterations());
+	setJointFeedback(mutableStock(stock).getJointFeedback());
+	enableFeedback(stock.needsFeedback());
+	setDbgDrawSize(mutableStock(stock).getDbgDrawSize());
+}
+
+int btReplaceHingeConstraints(btDynamicsWorld* world, btAlignedObjectArray<btQuaternionHingeConstraint*>* added,
+							  btAlignedObjectArray<btHingeConstraint*>* removedStock)
+{
+	btAlignedObjectArray<btHingeConstraint*> stockHinges;
+	for (int i = 0; i < world->getNumConstraints(); ++i)
+	{
+		btTypedConstraint* constraint = world->getConstraint(i);
+		if (constraint->getConstraintType() == HINGE_CONSTRAINT_TYPE)
+			stockHinges.push_back(static_cast<btHingeConstraint*>(constraint));
+	}
+	for (int i = 0; i < stockHinges.size(); ++i)
+	{
+		btHingeConstraint* stock = stockHinges[i];
+		// addConstraint(c, true) registers c with both bodies; that is how the world remembers the choice.
+		const bool disableCollisions = bodyRefersTo(stock->getRigidBodyA(), stock);
+		btQuaternionHingeConstraint* replacement = new btQuaternionHingeConstraint(*stock);
+		world->removeConstraint(stock);
+		world->addConstraint(replacement, disableCollisions);
+		if (added) added->push_back(replacement);
+		if (removedStock) removedStock->push_back(stock);
+		else delete stock;
+	}
+	return stockHinges.size();
+}

@@ -1,0 +1,746 @@
+// btQuaternionHingeConstraint: composes the point part (3 linear rows), the quaternion two-row part
+// (QuaternionHingeRows.h, MATH.md Q2–Q10, Q12) and the axis part (AxisRows.h: limit, drive, friction), and tracks the
+// multi-turn angle (HingeAngle.h, Q11). getInfo1 decides which rows exist; getInfo2 fills them in that order:
+//   [0..2] point-to-point (unless angular-only)   [next 2] quaternion rows   [limit] [drive] [friction]
+#include "quathinge/btQuaternionHingeConstraint.h"
+
+#include "AxisRows.h"
+#include "HingeAngle.h"
+#include "InputChecks.h"
+#include "QuaternionHingeRows.h"
+
+#include "BulletDynamics/Dynamics/btRigidBody.h"
+
+#include <cmath>
+#include <sstream>
+
+using namespace quathinge;
+
+namespace
+{
+const char* const kClass = "btQuaternionHingeConstraint";
+
+// Row kinds for per-row ERP/CFM (setParam's axis).
+const int kLinearKind = 0;   // 0..2
+const int kAngularKind = 3;  // 3..4
+const int kAxialKind = 5;
+
+btMatrix3x3 basisFromColumns(const btVector3& x, const btVector3& y, const btVector3& z)
+{
+	return btMatrix3x3(x.x(), y.x(), z.x(), x.y(), y.y(), z.y(), x.z(), y.z(), z.z());
+}
+
+bool finiteVector(const btVector3& v) { return std::isfinite(v.x()) && std::isfinite(v.y()) && std::isfinite(v.z()); }
+
+bool finiteBodyState(const btRigidBody& body)
+{
+	const btTransform& t = body.getCenterOfMassTransform();
+	return finiteVector(t.getOrigin()) && finiteVector(t.getBasis()[0]) && finiteVector(t.getBasis()[1]) &&
+		   finiteVector(t.getBasis()[2]) && finiteVector(body.getLinearVelocity()) &&
+		   finiteVector(body.getAngularVelocity());
+}
+
+bool isStaticLike(const btRigidBody& body)
+{
+	return body.getInvMass() == 0 && body.getInvInertiaDiagLocal().isZero();
+}
+
+void checkBodies(const char* fn, const btRigidBody& rbA, const btRigidBody& rbB)
+{
+	if (&rbA == &rbB) check::fail(fn, "rbB is the same body as rbA (a joint needs two bodies)");
+}
+
+// The user angle α = σθ: σ = +1 with useReferenceFrameA, −1 without (btHingeConstraint::getHingeAngle's sign).
+btScalar userSign(bool useReferenceFrameA) { return useReferenceFrameA ? btScalar(1) : btScalar(-1); }
+
+// The relative quaternion q = a* ⊗ b (Q2) and joint frame A's world basis, with one matrix-to-quaternion conversion.
+struct JointPose
+{
+	btTransform frameA;  // joint frame A in world
+	btTransform frameB;  // joint frame B in world
+	btQuaternion q;
+};
+
+JointPose jointPose(const btTransform& transA, const btTransform& transB, const btQuaternionHingeSettings& s)
+{
+	JointPose pose;
+	pose.frameA = transA * s.frameInA;
+	pose.frameB = transB * s.frameInB;
+	btMatrix3x3 relative = pose.frameA.getBasis().transposeTimes(pose.frameB.getBasis());
+	relative.getRotation(pose.q);
+	return pose;
+}
+}  // namespace
+
+// ---- Construction ---------------------------------------------------------------------------------------------------
+
+btQuaternionHingeConstraint::btQuaternionHingeConstraint(btRigidBody& rbA, btRigidBody& rbB, const btVector3& pivotInA,
+														 const btVector3& pivotInB, const btVector3& axisInA,
+														 const btVector3& axisInB, bool useReferenceFrameA)
+	: btTypedConstraint(QUATERNION_HINGE_CONSTRAINT_TYPE, rbA, rbB)
+{
+	const char* fn = "btQuaternionHingeConstraint(rbA, rbB, pivotInA, pivotInB, axisInA, axisInB)";
+	checkBodies(fn, rbA, rbB);
+	check::finite(fn, "pivotInA", pivotInA);
+	check::finite(fn, "pivotInB", pivotInB);
+	const btVector3 axisA = check::unitAxis(fn, "axisInA", axisInA);
+	const btVector3 axisB = check::unitAxis(fn, "axisInB", axisInB);
+
+	// Frames chosen exactly as btHingeConstraint chooses them, so that the zero angle is the same.
+	btVector3 axisA1 = rbA.getCenterOfMassTransform().getBasis().getColumn(0);
+	btVector3 axisA2;
+	const btScalar projection = axisA.dot(axisA1);
+	if (projection >= 1 - SIMD_EPSILON)
+	{
+		axisA1 = -rbA.getCenterOfMassTransform().getBasis().getColumn(2);
+		axisA2 = rbA.getCenterOfMassTransform().getBasis().getColumn(1);
+	}
+	else if (projection <= -1 + SIMD_EPSILON)
+	{
+		axisA1 = rbA.getCenterOfMassTransform().getBasis().getColumn(2);
+		axisA2 = rbA.getCenterOfMassTransform().getBasis().getColumn(1);
+	}
+	else
+	{
+		axisA2 = axisA.cross(axisA1).normalized();
+		axisA1 = axisA2.cross(axisA);
+	}
+	const btQuaternion arc = shortestArcQuat(axisA, axisB);
+	const btVector3 axisB1 = quatRotate(arc, axisA1);
+	const btVector3 axisB2 = axisB.cross(axisB1);
+
+	m_settings.frameInA = btTransform(basisFromColumns(axisA1, axisA2, axisA), pivotInA);
+	m_settings.frameInB = btTransform(basisFromColumns(axisB1, axisB2, axisB), pivotInB);
+	m_settings.useReferenceFrameA = useReferenceFrameA;
+	initFromSettings();
+}
+
+btQuaternionHingeConstraint::btQuaternionHingeConstraint(btRigidBody& rbA, const btVector3& pivotInA,
+														 const btVector3& axisInA, bool useReferenceFrameA)
+	: btTypedConstraint(QUATERNION_HINGE_CONSTRAINT_TYPE, rbA)
+{
+	const char* fn = "btQuaternionHingeConstraint(rbA, pivotInA, axisInA)";
+	check::finite(fn, "pivotInA", pivotInA);
+	const btVector3 axisA = check::unitAxis(fn, "axisInA", axisInA);
+
+	// As btHingeConstraint: body B is the world; its frame is A's frame as it is now, in world coordinates.
+	btVector3 axisA1, axisA2;
+	btPlaneSpace1(axisA, axisA1, axisA2);
+	const btVector3 axisB = rbA.getCenterOfMassTransform().getBasis() * axisA;
+	const btQuaternion arc = shortestArcQuat(axisA, axisB);
+	const btVector3 axisB1 = quatRotate(arc, axisA1);
+	const btVector3 axisB2 = axisB.cross(axisB1);
+
+	m_settings.frameInA = btTransform(basisFromColumns(axisA1, axisA2, axisA), pivotInA);
+	m_settings.frameInB =
+		btTransform(basisFromColumns(axisB1, axisB2, axisB), rbA.getCenterOfMassTransform()(pivotInA));
+	m_settings.useReferenceFrameA = useReferenceFrameA;
+	initFromSettings();
+}
+
+btQuaternionHingeConstraint::btQuaternionHingeConstraint(btRigidBody& rbA, btRigidBody& rbB,
+														 const btTransform& rbAFrame, const btTransform& rbBFrame,
+														 bool useReferenceFrameA)
+	: btTypedConstraint(QUATERNION_HINGE_CONSTRAINT_TYPE, rbA, rbB)
+{
+	const char* fn = "btQuaternionHingeConstraint(rbA, rbB, rbAFrame, rbBFrame)";
+	checkBodies(fn, rbA, rbB);
+	check::rigidFrame(fn, "rbAFrame", rbAFrame);
+	check::rigidFrame(fn, "rbBFrame", rbBFrame);
+	m_settings.frameInA = rbAFrame;
+	m_settings.frameInB = rbBFrame;
+	m_settings.useReferenceFrameA = useReferenceFrameA;
+	initFromSettings();
+}
+
+btQuaternionHingeConstraint::btQuaternionHingeConstraint(btRigidBody& rbA, const btTransform& rbAFrame,
+														 bool useReferenceFrameA)
+	: btTypedConstraint(QUATERNION_HINGE_CONSTRAINT_TYPE, rbA)
+{
+	const char* fn = "btQuaternionHingeConstraint(rbA, rbAFrame)";
+	check::rigidFrame(fn, "rbAFrame", rbAFrame);
+	// As btHingeConstraint: B's frame has A's basis and A's pivot in world coordinates.
+	m_settings.frameInA = rbAFrame;
+	m_settings.frameInB = btTransform(rbAFrame.getBasis(), rbA.getCenterOfMassTransform()(rbAFrame.getOrigin()));
+	m_settings.useReferenceFrameA = useReferenceFrameA;
+	initFromSettings();
+}
+
+btQuaternionHingeConstraint::btQuaternionHingeConstraint(btRigidBody& rbA, btRigidBody& rbB,
+														 const btQuaternionHingeSettings& settings)
+	: btTypedConstraint(QUATERNION_HINGE_CONSTRAINT_TYPE, rbA, rbB)
+{
+	const char* fn = "btQuaternionHingeConstraint(rbA, rbB, settings)";
+	checkBodies(fn, rbA, rbB);
+	check::rigidFrame(fn, "settings.frameInA", settings.frameInA);
+	check::rigidFrame(fn, "settings.frameInB", settings.frameInB);
+	m_settings.frameInA = settings.frameInA;
+	m_settings.frameInB = settings.frameInB;
+	m_settings.useReferenceFrameA = settings.useReferenceFrameA;
+	m_settings.angularOnly = settings.angularOnly;
+	m_settings.useFrameOffset = settings.useFrameOffset;
+	initFromSettings();
+	// Everything else through the checked setters, so a corrupt settings struct is refused like any other input.
+	for (int kind = 0; kind < 6; ++kind)
+	{
+		if (settings.flags & (BT_QHINGE_FLAGS_ERP_ROW0 << kind)) setParam(BT_CONSTRAINT_ERP, settings.rowErp[kind], kind);
+		if (settings.flags & (BT_QHINGE_FLAGS_CFM_ROW0 << kind)) setParam(BT_CONSTRAINT_CFM, settings.rowCfm[kind], kind);
+	}
+	if (settings.flags & BT_QHINGE_FLAGS_ERP_STOP) setParam(BT_CONSTRAINT_STOP_ERP, settings.stopErp);
+	if (settings.flags & BT_QHINGE_FLAGS_CFM_STOP) setParam(BT_CONSTRAINT_STOP_CFM, settings.stopCfm);
+	if (settings.hasLimit)
+		setLimit(settings.lowerLimit, settings.upperLimit, settings.limitSoftness, settings.limitBiasFactor,
+				 settings.limitRelaxationFactor);
+	switch (settings.driveMode)
+	{
+		case BT_QHINGE_DRIVE_VELOCITY:
+			enableAngularMotor(true, settings.motorTargetVelocity, settings.maxMotorImpulse);
+			break;
+		case BT_QHINGE_DRIVE_SERVO:
+			setServoTarget(settings.servoTargetAngle, settings.servoMaxSpeed, settings.servoMaxTorque);
+			break;
+		case BT_QHINGE_DRIVE_SPRING:
+			setSpring(settings.springRestAngle, settings.springFrequency, settings.springDampingRatio);
+			break;
+		case BT_QHINGE_DRIVE_OFF:
+			// keep the motor's values (stock keeps them while the motor is off)
+			setMotorTargetVelocity(settings.motorTargetVelocity);
+			setMaxMotorImpulse(settings.maxMotorImpulse);
+			break;
+		default:
+			check::fail(fn, "settings.driveMode", "is not a btQuaternionHingeDriveMode", btScalar(settings.driveMode));
+	}
+	setMaxFrictionTorque(settings.maxFrictionTorque);
+}
+
+void btQuaternionHingeConstraint::initFromSettings()
+{
+	m_multiTurnAngle = 0;
+	m_multiTurnValid = false;
+	m_trackAlways = false;
+	m_framesMayHaveChanged = false;
+	m_limitSign = 0;
+	m_limitSpeculative = false;
+	m_numRows = 0;
+	m_fault = BT_QHINGE_FAULT_NONE;
+}
+
+// ---- Frames -----------------------------------------------------------------------------------------------------------
+
+btTransform& btQuaternionHingeConstraint::getFrameOffsetA()
+{
+	m_framesMayHaveChanged = true;
+	return m_settings.frameInA;
+}
+
+btTransform& btQuaternionHingeConstraint::getFrameOffsetB()
+{
+	m_framesMayHaveChanged = true;
+	return m_settings.frameInB;
+}
+
+void btQuaternionHingeConstraint::validateFramesIfEdited()
+{
+	if (!m_framesMayHaveChanged) return;
+	m_framesMayHaveChanged = false;
+	if (!check::isRigidFrame(m_settings.frameInA) || !check::isRigidFrame(m_settings.frameInB))
+	{
+		m_fault = BT_QHINGE_FAULT_FRAME_EDITED_INVALID;
+		setEnabled(false);
+	}
+	m_multiTurnValid = false;  // the zero angle may have moved
+}
+
+void btQuaternionHingeConstraint::setFrames(const btTransform& frameA, const btTransform& frameB)
+{
+	const char* fn = "btQuaternionHingeConstraint::setFrames";
+	check::rigidFrame(fn, "frameA", frameA);
+	check::rigidFrame(fn, "frameB", frameB);
+	m_settings.frameInA = frameA;
+	m_settings.frameInB = frameB;
+	m_multiTurnValid = false;
+}
+
+void btQuaternionHingeConstraint::setAxis(btVector3& axisInA)
+{
+	const btVector3 axisA = check::unitAxis("btQuaternionHingeConstraint::setAxis", "axisInA", axisInA);
+	// As btHingeConstraint::setAxis: A's frame gets the new axis; B's frame is derived from the current pose.
+	btVector3 axisA1, axisA2;
+	btPlaneSpace1(axisA, axisA1, axisA2);
+	const btVector3 pivotInA = m_settings.frameInA.getOrigin();
+	const btTransform& transA = m_rbA.getCenterOfMassTransform();
+	const btTransform& transB = m_rbB.getCenterOfMassTransform();
+	const btMatrix3x3 basisA = basisFromColumns(axisA1, axisA2, axisA);
+	m_settings.frameInA.setBasis(basisA);
+	// B's frame: A's joint frame as it is now in world coordinates, expressed in B.
+	m_settings.frameInB.setOrigin(transB.inverse()(transA(pivotInA)));
+	m_settings.frameInB.setBasis(transB.getBasis().transposeTimes(transA.getBasis() * basisA));
+	m_multiTurnValid = false;
+}
+
+void btQuaternionHingeConstraint::setUseReferenceFrameA(bool useReferenceFrameA)
+{
+	if (useReferenceFrameA != m_settings.useReferenceFrameA) m_multiTurnAngle = -m_multiTurnAngle;
+	m_settings.useReferenceFrameA = useReferenceFrameA;
+}
+
+// ---- Motor, servo, spring, friction ----------------------------------------------------------------------------------
+
+void btQuaternionHingeConstraint::enableAngularMotor(bool enable, btScalar targetVelocity, btScalar maxMotorImpulse)
+{
+	const char* fn = "btQuaternionHingeConstraint::enableAngularMotor";
+	check::finite(fn, "targetVelocity", targetVelocity);
+	check::finite(fn, "maxMotorImpulse", maxMotorImpulse);
+	check::nonNegative(fn, "maxMotorImpulse", maxMotorImpulse);
+	m_settings.motorTargetVelocity = targetVelocity;
+	m_settings.maxMotorImpulse = maxMotorImpulse;
+	enableMotor(enable);
+}
+
+void btQuaternionHingeConstraint::enableMotor(bool enable)
+{
+	if (enable) m_settings.driveMode = BT_QHINGE_DRIVE_VELOCITY;
+	else if (m_settings.driveMode == BT_QHINGE_DRIVE_VELOCITY) m_settings.driveMode = BT_QHINGE_DRIVE_OFF;
+}
+
+void btQuaternionHingeConstraint::setMaxMotorImpulse(btScalar maxMotorImpulse)
+{
+	const char* fn = "btQuaternionHingeConstraint::setMaxMotorImpulse";
+	check::finite(fn, "maxMotorImpulse", maxMotorImpulse);
+	check::nonNegative(fn, "maxMotorImpulse", maxMotorImpulse);
+	m_settings.maxMotorImpulse = maxMotorImpulse;
+}
+
+void btQuaternionHingeConstraint::setMotorTargetVelocity(btScalar motorTargetVelocity)
+{
+	check::finite("btQuaternionHingeConstraint::setMotorTargetVelocity", "motorTargetVelocity", motorTargetVelocity);
+	m_settings.motorTargetVelocity = motorTargetVelocity;
+}
+
+void btQuaternionHingeConstraint::setMotorTarget(btScalar targetAngle, btScalar dt)
+{
+	const char* fn = "btQuaternionHingeConstraint::setMotorTarget";
+	check::finite(fn, "targetAngle", targetAngle);
+	check::finite(fn, "dt", dt);
+	check::positive(fn, "dt", dt);
+	// As stock: clamp the target into the limit, then the velocity that gets there in dt. Stock compares with the
+	// wrapped angle; here the multi-turn angle is used when it is tracked, so targets beyond ±π work.
+	if (m_settings.hasLimit) targetAngle = btMax(m_settings.lowerLimit, btMin(m_settings.upperLimit, targetAngle));
+	const btScalar current = m_multiTurnValid ? m_multiTurnAngle : getHingeAngle();
+	m_settings.motorTargetVelocity = (targetAngle - current) / dt;
+}
+
+void btQuaternionHingeConstraint::setMotorTarget(const btQuaternion& qAinB, btScalar dt)
+{
+	const char* fn = "btQuaternionHingeConstraint::setMotorTarget";
+	for (int i = 0; i < 4; ++i) check::finite(fn, "qAinB", qAinB[i]);
+	if (qAinB.length2() == 0) check::fail(fn, "qAinB must not be the zero quaternion");
+	// As stock: the rotation in constraint space, its hinge (twist) part, and its angle. The twist angle of
+	// frameB⁻¹ qAinB frameA about ẑ is −θ of the pose it describes (A relative to B), which is stock's angle.
+	btQuaternion qConstraint =
+		m_settings.frameInB.getRotation().inverse() * qAinB.normalized() * m_settings.frameInA.getRotation();
+	qConstraint.normalize();
+	const btScalar theta = hingeAngle(qConstraint.inverse());  // θ of B relative to A (Q11)
+	setMotorTarget(userSign(m_settings.useReferenceFrameA) * theta, dt);
+}
+
+void btQuaternionHingeConstraint::setServoTarget(btScalar targetAngle, btScalar maxSpeed, btScalar maxTorque)
+{
+	const char* fn = "btQuaternionHingeConstraint::setServoTarget";
+	check::finite(fn, "targetAngle", targetAngle);
+	check::positive(fn, "maxSpeed", maxSpeed);
+	check::nonNegative(fn, "maxTorque", maxTorque);
+	m_settings.servoTargetAngle = targetAngle;
+	m_settings.servoMaxSpeed = maxSpeed;
+	m_settings.servoMaxTorque = maxTorque;
+	m_settings.driveMode = BT_QHINGE_DRIVE_SERVO;
+}
+
+void btQuaternionHingeConstraint::setSpring(btScalar restAngle, btScalar frequencyHz, btScalar dampingRatio)
+{
+	const char* fn = "btQuaternionHingeConstraint::setSpring";
+	check::finite(fn, "restAngle", restAngle);
+	check::finite(fn, "frequencyHz", frequencyHz);
+	check::positive(fn, "frequencyHz", frequencyHz);
+	check::finite(fn, "dampingRatio", dampingRatio);
+	check::nonNegative(fn, "dampingRatio", dampingRatio);
+	m_settings.springRestAngle = restAngle;
+	m_settings.springFrequency = frequencyHz;
+	m_settings.springDampingRatio = dampingRatio;
+	m_settings.driveMode = BT_QHINGE_DRIVE_SPRING;
+}
+
+void btQuaternionHingeConstraint::disableDrive() { m_settings.driveMode = BT_QHINGE_DRIVE_OFF; }
+
+void btQuaternionHingeConstraint::setMaxFrictionTorque(btScalar maxTorque)
+{
+	const char* fn = "btQuaternionHingeConstraint::setMaxFrictionTorque";
+	check::finite(fn, "maxTorque", maxTorque);
+	check::nonNegative(fn, "maxTorque", maxTorque);
+	m_settings.maxFrictionTorque = maxTorque;
+}
+
+// ---- Limits and angles -------------------------------------------------------------------------------------------------
+
+void btQuaternionHingeConstraint::setLimit(btScalar low, btScalar high, btScalar softness, btScalar biasFactor,
+										   btScalar relaxationFactor)
+{
+	const char* fn = "btQuaternionHingeConstraint::setLimit";
+	if (std::isnan(low)) check::fail(fn, "low", "must not be NaN", low);
+	if (std::isnan(high)) check::fail(fn, "high", "must not be NaN", high);
+	if (low == SIMD_INFINITY) check::fail(fn, "low", "must be below +infinity", low);
+	if (high == -SIMD_INFINITY) check::fail(fn, "high", "must be above -infinity", high);
+	if (low > high)
+	{
+		std::ostringstream message;
+		message << "low (" << low << ") > high (" << high << "); call removeLimit() to free the joint";
+		check::fail(fn, message.str().c_str());
+	}
+	check::inRange(fn, "softness", softness, 0, false, 1, true);
+	check::inRange(fn, "biasFactor", biasFactor, 0, true, 1, true);
+	check::inRange(fn, "relaxationFactor", relaxationFactor, 0, true, 1, true);
+	m_settings.hasLimit = true;
+	m_settings.lowerLimit = low;
+	m_settings.upperLimit = high;
+	m_settings.limitSoftness = softness;
+	m_settings.limitBiasFactor = biasFactor;
+	m_settings.limitRelaxationFactor = relaxationFactor;
+	rebranchForLimit();
+}
+
+void btQuaternionHingeConstraint::removeLimit()
+{
+	m_settings.hasLimit = false;
+	m_limitSign = 0;
+	m_limitSpeculative = false;
+}
+
+void btQuaternionHingeConstraint::rebranchForLimit()
+{
+	const btScalar raw = getHingeAngle();
+	const btScalar current = m_multiTurnValid ? continueAngle(m_multiTurnAngle, raw) : raw;
+	if (!m_multiTurnValid || current < m_settings.lowerLimit || current > m_settings.upperLimit)
+		m_multiTurnAngle = nearestBranch(current, m_settings.lowerLimit, m_settings.upperLimit);
+	else
+		m_multiTurnAngle = current;
+	m_multiTurnValid = true;
+}
+
+btScalar btQuaternionHingeConstraint::getHingeAngle() const
+{
+	return getHingeAngle(m_rbA.getCenterOfMassTransform(), m_rbB.getCenterOfMassTransform());
+}
+
+btScalar btQuaternionHingeConstraint::getHingeAngle(const btTransform& transA, const btTransform& transB) const
+{
+	// (Q11) with stock's sign
+	return userSign(m_settings.useReferenceFrameA) * hingeAngle(jointPose(transA, transB, m_settings).q);
+}
+
+bool btQuaternionHingeConstraint::needsAngle() const
+{
+	return m_settings.hasLimit || m_trackAlways || m_settings.driveMode == BT_QHINGE_DRIVE_SERVO ||
+		   m_settings.driveMode == BT_QHINGE_DRIVE_SPRING;
+}
+
+void btQuaternionHingeConstraint::updateMultiTurnAngle(btScalar rawUserAngle)
+{
+	if (m_multiTurnValid)
+		m_multiTurnAngle = continueAngle(m_multiTurnAngle, rawUserAngle);  // (Q11)
+	else if (m_settings.hasLimit)
+		m_multiTurnAngle = nearestBranch(rawUserAngle, m_settings.lowerLimit, m_settings.upperLimit);
+	else
+		m_multiTurnAngle = rawUserAngle;
+	m_multiTurnValid = true;
+}
+
+btScalar btQuaternionHingeConstraint::getMultiTurnAngle()
+{
+	m_trackAlways = true;
+	updateMultiTurnAngle(getHingeAngle());
+	return m_multiTurnAngle;
+}
+
+void btQuaternionHingeConstraint::setMultiTurnAngle(btScalar angle)
+{
+	const char* fn = "btQuaternionHingeConstraint::setMultiTurnAngle";
+	check::finite(fn, "angle", angle);
+	const btScalar raw = getHingeAngle();
+	// 1e-3 rad: generous against float round-off of the pose, far below any distinct angle a user means
+	if (btFabs(wrapAngle(angle - raw)) > btScalar(1e-3))
+	{
+		std::ostringstream message;
+		message << "angle (" << angle << ") is not the current hinge angle (" << raw << ") plus whole turns";
+		check::fail(fn, message.str().c_str());
+	}
+	m_multiTurnAngle = raw + (angle - raw - wrapAngle(angle - raw));
+	m_multiTurnValid = true;
+	m_trackAlways = true;
+}
+
+void btQuaternionHingeConstraint::testLimit(const btTransform& transA, const btTransform& transB)
+{
+	m_limitSign = 0;
+	m_limitSpeculative = false;
+	if (!m_settings.hasLimit) return;
+	updateMultiTurnAngle(getHingeAngle(transA, transB));
+	const LimitState limit = evaluateLimit(m_settings, m_multiTurnAngle);
+	m_limitSign = limit.sign;
+	m_limitSpeculative = limit.speculative;
+}
+
+// ---- ERP / CFM ----------------------------------------------------------------------------------------------------------
+
+void btQuaternionHingeConstraint::setParam(int num, btScalar value, int axis)
+{
+	const char* fn = "btQuaternionHingeConstraint::setParam";
+	if (axis < -1 || axis > 5) check::fail(fn, "axis", "must be -1 (all rows) or 0..5", btScalar(axis));
+	switch (num)
+	{
+		case BT_CONSTRAINT_ERP:
+		case BT_CONSTRAINT_CFM:
+		{
+			const bool erp = num == BT_CONSTRAINT_ERP;
+			if (erp) check::inRange(fn, "value (ERP)", value, 0, true, 1, true);
+			else check::inRange(fn, "value (CFM)", value, 0, true, 1, false);
+			const int first = axis < 0 ? 0 : axis, last = axis < 0 ? 5 : axis;
+			for (int kind = first; kind <= last; ++kind)
+			{
+				(erp ? m_settings.rowErp : m_settings.rowCfm)[kind] = value;
+				m_settings.flags |= (erp ? BT_QHINGE_FLAGS_ERP_ROW0 : BT_QHINGE_FLAGS_CFM_ROW0) << kind;
+			}
+			m_settings.flags |= erp ? BT_QHINGE_FLAGS_ERP_NORM : BT_QHINGE_FLAGS_CFM_NORM;
+			break;
+		}
+		case BT_CONSTRAINT_STOP_ERP:
+		case BT_CONSTRAINT_STOP_CFM:
+		{
+			if (axis != -1 && axis != 5)
+				check::fail(fn, "axis", "must be -1 or 5 for STOP_ERP/STOP_CFM (the limit row)", btScalar(axis));
+			if (num == BT_CONSTRAINT_STOP_ERP)
+			{
+				check::inRange(fn, "value (STOP_ERP)", value, 0, true, 1, true);
+				m_settings.stopErp = value;
+				m_settings.flags |= BT_QHINGE_FLAGS_ERP_STOP;
+			}
+			else
+			{
+				check::inRange(fn, "value (STOP_CFM)", value, 0, true, 1, false);
+				m_settings.stopCfm = value;
+				m_settings.flags |= BT_QHINGE_FLAGS_CFM_STOP;
+			}
+			break;
+		}
+		default:
+			check::fail(fn, "num", "must be BT_CONSTRAINT_ERP, _STOP_ERP, _CFM or _STOP_CFM", btScalar(num));
+	}
+}
+
+btScalar btQuaternionHingeConstraint::getParam(int num, int axis) const
+{
+	const char* fn = "btQuaternionHingeConstraint::getParam";
+	if (axis < -1 || axis > 5) check::fail(fn, "axis", "must be -1 or 0..5", btScalar(axis));
+	const int kind = axis < 0 ? kAxialKind : axis;  // −1 reads the value btHingeConstraint's default axis (5) has
+	int flag = 0;
+	btScalar value = 0;
+	switch (num)
+	{
+		case BT_CONSTRAINT_ERP:
+			flag = BT_QHINGE_FLAGS_ERP_ROW0 << kind;
+			value = m_settings.rowErp[kind];
+			break;
+		case BT_CONSTRAINT_CFM:
+			flag = BT_QHINGE_FLAGS_CFM_ROW0 << kind;
+			value = m_settings.rowCfm[kind];
+			break;
+		case BT_CONSTRAINT_STOP_ERP:
+		case BT_CONSTRAINT_STOP_CFM:
+			if (axis != -1 && axis != 5) check::fail(fn, "axis", "must be -1 or 5 for STOP_ERP/STOP_CFM", btScalar(axis));
+			flag = num == BT_CONSTRAINT_STOP_ERP ? BT_QHINGE_FLAGS_ERP_STOP : BT_QHINGE_FLAGS_CFM_STOP;
+			value = num == BT_CONSTRAINT_STOP_ERP ? m_settings.stopErp : m_settings.stopCfm;
+			break;
+		default:
+			check::fail(fn, "num", "must be BT_CONSTRAINT_ERP, _STOP_ERP, _CFM or _STOP_CFM", btScalar(num));
+	}
+	if (!(m_settings.flags & flag))
+		check::fail(fn, "num", "has no value set for this axis (the solver's global value is in effect)", btScalar(num));
+	return value;
+}
+
+btScalar btQuaternionHingeConstraint::rowErp(int kind, btScalar globalErp) const
+{
+	return (m_settings.flags & (BT_QHINGE_FLAGS_ERP_ROW0 << kind)) ? m_settings.rowErp[kind] : globalErp;
+}
+
+btScalar btQuaternionHingeConstraint::rowCfm(int kind, btScalar globalCfm) const
+{
+	return (m_settings.flags & (BT_QHINGE_FLAGS_CFM_ROW0 << kind)) ? m_settings.rowCfm[kind] : globalCfm;
+}
+
+// ---- Solver interface ------------------------------------------------------------------------------------------------
+
+void btQuaternionHingeConstraint::clearFault()
+{
+	m_fault = BT_QHINGE_FAULT_NONE;
+	setEnabled(true);
+}
+
+void btQuaternionHingeConstraint::getInfo1(btConstraintInfo1* info)
+{
+	computeRowCount(info, m_rbA.getCenterOfMassTransform(), m_rbB.getCenterOfMassTransform());
+}
+
+void btQuaternionHingeConstraint::getInfo1NonVirtual(btConstraintInfo1* info) { getInfo1(info); }
+
+void btQuaternionHingeConstraint::computeRowCount(btConstraintInfo1* info, const btTransform& transA,
+												  const btTransform& transB)
+{
+	info->m_numConstraintRows = 0;
+	info->nub = 0;
+	m_numRows = 0;
+	validateFramesIfEdited();
+	if (m_fault == BT_QHINGE_FAULT_FRAME_EDITED_INVALID) return;
+	// State from outside must not turn the rows into NaN: refuse, disable, say why.
+	if (!finiteBodyState(m_rbA) || !finiteBodyState(m_rbB))
+	{
+		m_fault = BT_QHINGE_FAULT_NONFINITE_BODY_STATE;
+		setEnabled(false);
+		return;
+	}
+	if (isStaticLike(m_rbA) && isStaticLike(m_rbB))
+	{
+		m_fault = BT_QHINGE_FAULT_NO_DYNAMIC_BODY;  // transient: no row could act; rows return with a dynamic body
+		return;
+	}
+	if (m_fault == BT_QHINGE_FAULT_NO_DYNAMIC_BODY) m_fault = BT_QHINGE_FAULT_NONE;
+
+	int rows = m_settings.angularOnly ? 2 : 5;
+	if (needsAngle())
+	{
+		if (m_settings.hasLimit) testLimit(transA, transB);  // also advances the multi-turn angle
+		else updateMultiTurnAngle(getHingeAngle(transA, transB));
+	}
+	else
+	{
+		m_multiTurnValid = false;  // not tracked this step: whole turns may be missed from here on
+		m_limitSign = 0;
+	}
+	if (m_limitSign != 0) ++rows;
+	if (driveActive(m_settings)) ++rows;
+	if (m_settings.maxFrictionTorque > 0) ++rows;
+	info->m_numConstraintRows = rows;
+	info->nub = m_settings.angularOnly ? 2 : 5;  // the bilateral, unbounded rows
+	m_numRows = rows;
+}
+
+void btQuaternionHingeConstraint::getInfo2(btConstraintInfo2* info)
+{
+	fillRows(info, m_rbA.getCenterOfMassTransform(), m_rbB.getCenterOfMassTransform(), m_rbA.getAngularVelocity(),
+			 m_rbB.getAngularVelocity());
+}
+
+void btQuaternionHingeConstraint::getInfo2NonVirtual(btConstraintInfo2* info, const btTransform& transA,
+													 const btTransform& transB, const btVector3& angVelA,
+													 const btVector3& angVelB)
+{
+	testLimit(transA, transB);  // as stock: getInfo1 did not run for these transforms
+	fillRows(info, transA, transB, angVelA, angVelB);
+}
+
+void btQuaternionHingeConstraint::fillRows(btConstraintInfo2* info, const btTransform& transA,
+										   const btTransform& transB, const btVector3& angVelA,
+										   const btVector3& angVelB)
+{
+	if (m_numRows == 0) return;
+	const int skip = info->rowskip;
+	const JointPose pose = jointPose(transA, transB, m_settings);
+	int row = 0;
+
+	// Point part: C = p_B − p_A, J = [−I, [r_A]×ᵀ…] per axis e_i (MATH.md, "Bullet's conventions"; Q10 sign).
+	if (!m_settings.angularOnly)
+	{
+		const btVector3 rA = pose.frameA.getOrigin() - transA.getOrigin();
+		const btVector3 rB = pose.frameB.getOrigin() - transB.getOrigin();
+		const btVector3 c = pose.frameB.getOrigin() - pose.frameA.getOrigin();
+		for (int i = 0; i < 3; ++i, ++row)
+		{
+			btVector3 e(0, 0, 0);
+			e[i] = 1;
+			const int at = row * skip;
+			const btVector3 angA = e.cross(rA);  // Ċ_i ∋ −(ω_A × r_A)_i = ω_A·(e_i × r_A)
+			const btVector3 angB = rB.cross(e);  // Ċ_i ∋ (ω_B × r_B)_i = ω_B·(r_B × e_i)
+			for (int k = 0; k < 3; ++k)
+			{
+				info->m_J1linearAxis[at + k] = -e[k];
+				info->m_J1angularAxis[at + k] = angA[k];
+				info->m_J2linearAxis[at + k] = e[k];
+				info->m_J2angularAxis[at + k] = angB[k];
+			}
+			info->m_constraintError[at] = -rowErp(kLinearKind + i, info->erp) * info->fps * c[i];  // (Q10)
+			if (m_settings.flags & (BT_QHINGE_FLAGS_CFM_ROW0 << (kLinearKind + i)))
+				info->cfm[at] = m_settings.rowCfm[kLinearKind + i];
+		}
+	}
+
+	// Quaternion part (Q7, Q9, Q10; the log form beyond 90°, Q12): body A −g, body B +g, error −erp·fps·C.
+	{
+		AngularRows angular;
+		computeAngularRows(pose.frameA.getBasis(), pose.q, angular);
+		const btVector3* axes[2] = {&angular.rowU, &angular.rowV};
+		const btScalar errors[2] = {angular.errorU, angular.errorV};
+		for (int j = 0; j < 2; ++j, ++row)
+		{
+			const int at = row * skip;
+			const int kind = kAngularKind + j;
+			for (int k = 0; k < 3; ++k)
+			{
+				info->m_J1angularAxis[at + k] = -(*axes[j])[k];
+				info->m_J2angularAxis[at + k] = (*axes[j])[k];
+			}
+			info->m_constraintError[at] = -rowErp(kind, info->erp) * info->fps * errors[j];
+			if (m_settings.flags & (BT_QHINGE_FLAGS_CFM_ROW0 << kind)) info->cfm[at] = m_settings.rowCfm[kind];
+		}
+	}
+
+	const bool drive = driveActive(m_settings);
+	const bool friction = m_settings.maxFrictionTorque > 0;
+	if (m_limitSign == 0 && !drive && !friction) return;
+
+	// Axis part: rows along J_α = σ R_A t (HingeAngle.h: exact gradient of the angle).
+	const btScalar sigma = userSign(m_settings.useReferenceFrameA);
+	const btVector3 axis = sigma * (pose.frameA.getBasis() * hingeAngleGradient(pose.q));
+	const btScalar rate = axis.dot(angVelB - angVelA);
+	const btScalar normalErp = rowErp(kAxialKind, info->erp);
+	auto emit = [&](const AxialRow& axial, bool setCfm, btScalar cfm) {
+		const int at = row * skip;
+		for (int k = 0; k < 3; ++k)
+		{
+			info->m_J1angularAxis[at + k] = -axis[k];
+			info->m_J2angularAxis[at + k] = axis[k];
+		}
+		info->m_constraintError[at] = axial.error;
+		info->m_lowerLimit[at] = axial.lower;
+		info->m_upperLimit[at] = axial.upper;
+		if (setCfm) info->cfm[at] = cfm;
+		++row;
+	};
+	if (m_limitSign != 0)
+	{
+		LimitState limit = evaluateLimit(m_settings, m_multiTurnAngle);
+		const btScalar stopErp = (m_settings.flags & BT_QHINGE_FLAGS_ERP_STOP) ? m_settings.stopErp : normalErp;
+		emit(limitRow(m_settings, limit, rate, info->fps, stopErp), (m_settings.flags & BT_QHINGE_FLAGS_CFM_STOP) != 0,
+			 m_settings.stopCfm);
+	}
+	const bool axialCfm = (m_settings.flags & (BT_QHINGE_FLAGS_CFM_ROW0 << kAxialKind)) != 0;
+	if (drive)
+	{
+		btScalar invEffectiveMass = 0;
+		if (m_settings.driveMode == BT_QHINGE_DRIVE_SPRING)
+			invEffectiveMass = axis.dot(m_rbA.getInvInertiaTensorWorld() * axis * m_rbA.getAngularFactor()) +
+							   axis.dot(m_rbB.getInvInertiaTensorWorld() * axis * m_rbB.getAngularFactor());
+		const btScalar angle = needsAngle() ? m_multiTurnAngle : btScalar(0);
+		emit(driveRow(m_settings, angle, rate, info->fps, invEffectiveMass), axialCfm && m_settings.driveMode != BT_QHINGE_DRIVE_SPRING,
+			 m_settings.rowCfm[kAxialKind]);
+	}
+	if (friction) emit(frictionRow(m_settings, info->fps), axialCfm, m_settings.rowCfm[kAxialKind]);
+}
