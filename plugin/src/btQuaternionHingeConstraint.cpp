@@ -647,21 +647,21 @@ void btQuaternionHingeConstraint::getInfo2NonVirtual(btConstraintInfo2* info, co
 	fillRows(info, transA, transB, angVelA, angVelB);
 }
 
-void btQuaternionHingeConstraint::fillRows(btConstraintInfo2* info, const btTransform& transA,
-										   const btTransform& transB, const btVector3& angVelA,
-										   const btVector3& angVelB)
+int btQuaternionHingeConstraint::fillBilateralRows(btConstraintInfo2* info, const btTransform& transA,
+												  const btTransform& transB, const btTransform& frameA,
+												  const btTransform& frameB, const btQuaternion& q, bool rawError) const
 {
-	if (m_numRows == 0) return;
+	// frameA, frameB: the joint frames in world; q = a* ⊗ b (Q2). rawError: constraintError = −C exactly (erp = fps =
+	// 1 and no per-row ERP), for computePositionRows.
 	const int skip = info->rowskip;
-	const JointPose pose = jointPose(transA, transB, m_settings);
 	int row = 0;
 
 	// Point part: C = p_B − p_A, J = [−I, [r_A]×ᵀ…] per axis e_i (MATH.md, "Bullet's conventions"; Q10 sign).
 	if (!m_settings.angularOnly)
 	{
-		const btVector3 rA = pose.frameA.getOrigin() - transA.getOrigin();
-		const btVector3 rB = pose.frameB.getOrigin() - transB.getOrigin();
-		const btVector3 c = pose.frameB.getOrigin() - pose.frameA.getOrigin();
+		const btVector3 rA = frameA.getOrigin() - transA.getOrigin();
+		const btVector3 rB = frameB.getOrigin() - transB.getOrigin();
+		const btVector3 c = frameB.getOrigin() - frameA.getOrigin();
 		for (int i = 0; i < 3; ++i, ++row)
 		{
 			btVector3 e(0, 0, 0);
@@ -676,31 +676,73 @@ void btQuaternionHingeConstraint::fillRows(btConstraintInfo2* info, const btTran
 				info->m_J2linearAxis[at + k] = e[k];
 				info->m_J2angularAxis[at + k] = angB[k];
 			}
-			info->m_constraintError[at] = -rowErp(kLinearKind + i, info->erp) * info->fps * c[i];  // (Q10)
-			if (m_settings.flags & (BT_QHINGE_FLAGS_CFM_ROW0 << (kLinearKind + i)))
+			const btScalar erp = rawError ? btScalar(1) : rowErp(kLinearKind + i, info->erp);
+			info->m_constraintError[at] = -erp * info->fps * c[i];  // (Q10)
+			if (!rawError && (m_settings.flags & (BT_QHINGE_FLAGS_CFM_ROW0 << (kLinearKind + i))))
 				info->cfm[at] = m_settings.rowCfm[kLinearKind + i];
 		}
 	}
 
 	// Quaternion part (Q7, Q9, Q10; the log form beyond 90°, Q12): body A −g, body B +g, error −erp·fps·C.
+	AngularRows angular;
+	computeAngularRows(frameA.getBasis(), q, angular);
+	const btVector3* axes[2] = {&angular.rowU, &angular.rowV};
+	const btScalar errors[2] = {angular.errorU, angular.errorV};
+	for (int j = 0; j < 2; ++j, ++row)
 	{
-		AngularRows angular;
-		computeAngularRows(pose.frameA.getBasis(), pose.q, angular);
-		const btVector3* axes[2] = {&angular.rowU, &angular.rowV};
-		const btScalar errors[2] = {angular.errorU, angular.errorV};
-		for (int j = 0; j < 2; ++j, ++row)
+		const int at = row * skip;
+		const int kind = kAngularKind + j;
+		for (int k = 0; k < 3; ++k)
 		{
-			const int at = row * skip;
-			const int kind = kAngularKind + j;
-			for (int k = 0; k < 3; ++k)
-			{
-				info->m_J1angularAxis[at + k] = -(*axes[j])[k];
-				info->m_J2angularAxis[at + k] = (*axes[j])[k];
-			}
-			info->m_constraintError[at] = -rowErp(kind, info->erp) * info->fps * errors[j];
-			if (m_settings.flags & (BT_QHINGE_FLAGS_CFM_ROW0 << kind)) info->cfm[at] = m_settings.rowCfm[kind];
+			info->m_J1angularAxis[at + k] = -(*axes[j])[k];
+			info->m_J2angularAxis[at + k] = (*axes[j])[k];
 		}
+		const btScalar erp = rawError ? btScalar(1) : rowErp(kind, info->erp);
+		info->m_constraintError[at] = -erp * info->fps * errors[j];
+		if (!rawError && (m_settings.flags & (BT_QHINGE_FLAGS_CFM_ROW0 << kind))) info->cfm[at] = m_settings.rowCfm[kind];
 	}
+	return row;
+}
+
+int btQuaternionHingeConstraint::computePositionRows(const btTransform& transA, const btTransform& transB, btScalar* C,
+													 btScalar* jacobian) const
+{
+	// Rows written through the solver's own layout: 12 values per row, J1 linear/angular then J2 linear/angular.
+	const int stride = 16;  // rowskip of the scratch rows (≥ 12)
+	btScalar scratch[5 * stride] = {};
+	btScalar error[5 * stride] = {};
+	btConstraintInfo2 info;
+	info.fps = 1;
+	info.erp = 1;
+	info.m_J1linearAxis = scratch;
+	info.m_J1angularAxis = scratch + 3;
+	info.m_J2linearAxis = scratch + 6;
+	info.m_J2angularAxis = scratch + 9;
+	info.rowskip = stride;
+	info.m_constraintError = error;
+	info.cfm = 0;
+	info.m_lowerLimit = 0;
+	info.m_upperLimit = 0;
+	info.m_numIterations = 0;
+	info.m_damping = 1;
+	const JointPose pose = jointPose(transA, transB, m_settings);
+	const int rows = fillBilateralRows(&info, transA, transB, pose.frameA, pose.frameB, pose.q, true);
+	for (int r = 0; r < rows; ++r)
+	{
+		C[r] = -error[r * stride];
+		for (int k = 0; k < 12; ++k) jacobian[12 * r + k] = scratch[r * stride + k];
+	}
+	return rows;
+}
+
+void btQuaternionHingeConstraint::fillRows(btConstraintInfo2* info, const btTransform& transA,
+										   const btTransform& transB, const btVector3& angVelA,
+										   const btVector3& angVelB)
+{
+	if (m_numRows == 0) return;
+	const JointPose pose = jointPose(transA, transB, m_settings);
+	int row = fillBilateralRows(info, transA, transB, pose.frameA, pose.frameB, pose.q, false);
+	const int skip = info->rowskip;
 
 	const bool drive = driveActive(m_settings);
 	const bool friction = m_settings.maxFrictionTorque > 0;

@@ -259,6 +259,12 @@ public:
 	/// Rows reported by the last getInfo1 (for tests and statistics).
 	int getNumRowsLastStep() const { return m_numRows; }
 
+	/// The joint's bilateral position-level rows at the given body transforms, for post-stabilizers (MATH.md Q13,
+	/// Q14) and tests: the values C (3 linear rows unless angular-only, then the 2 quaternion rows, Q4/Q9 or the
+	/// swing log, Q12) and their Jacobian J = ∂C/∂(v_A, ω_A, v_B, ω_B), row r at jacobian[12 r .. 12 r + 11] in that
+	/// order (world frame). Returns the row count (5, or 2 when angular-only); C and jacobian hold room for 5 rows.
+	int computePositionRows(const btTransform& transA, const btTransform& transB, btScalar* C, btScalar* jacobian) const;
+
 	/// Draws the joint: pivot frames, the hinge axis and, with a limit, its arc (within one turn).
 	void debugDraw(btIDebugDraw * drawer, btScalar size = btScalar(0.3)) const;
 
@@ -269,6 +275,9 @@ private:
 	void updateMultiTurnAngle(btScalar rawUserAngle);
 	bool needsAngle() const;
 	void computeRowCount(btConstraintInfo1 * info, const btTransform& transA, const btTransform& transB);
+	int fillBilateralRows(btConstraintInfo2 * info, const btTransform& transA, const btTransform& transB,
+						  const btTransform& frameA, const btTransform& frameB, const btQuaternion& q,
+						  bool rawError) const;
 	void fillRows(btConstraintInfo2 * info, const btTransform& transA, const btTransform& transB,
 				  const btVector3& angVelA, const btVector3& angVelB);
 	btScalar rowErp(int kind, btScalar globalErp) const;
