@@ -53,23 +53,6 @@ void checkBodies(const char* fn, const btRigidBody& rbA, const btRigidBody& rbB)
 // The user angle α = σθ: σ = +1 with useReferenceFrameA, −1 without (btHingeConstraint::getHingeAngle's sign).
 btScalar userSign(bool useReferenceFrameA) { return useReferenceFrameA ? btScalar(1) : btScalar(-1); }
 
-// The relative quaternion q = a* ⊗ b (Q2) and joint frame A's world basis, with one matrix-to-quaternion conversion.
-struct JointPose
-{
-	btTransform frameA;  // joint frame A in world
-	btTransform frameB;  // joint frame B in world
-	btQuaternion q;
-};
-
-JointPose jointPose(const btTransform& transA, const btTransform& transB, const btQuaternionHingeSettings& s)
-{
-	JointPose pose;
-	pose.frameA = transA * s.frameInA;
-	pose.frameB = transB * s.frameInB;
-	btMatrix3x3 relative = pose.frameA.getBasis().transposeTimes(pose.frameB.getBasis());
-	relative.getRotation(pose.q);
-	return pose;
-}
 }  // namespace
 
 // ---- Construction ---------------------------------------------------------------------------------------------------
@@ -213,8 +196,20 @@ btQuaternionHingeConstraint::btQuaternionHingeConstraint(btRigidBody& rbA, btRig
 	setMaxFrictionTorque(settings.maxFrictionTorque);
 }
 
+btQuaternionHingeConstraint::Pose btQuaternionHingeConstraint::poseAt(const btTransform& transA,
+																	const btTransform& transB) const
+{
+	// One matrix-to-quaternion conversion: q from R_Aᵀ R_B of the joint frames.
+	Pose pose;
+	pose.frameA = transA * m_settings.frameInA;
+	pose.frameB = transB * m_settings.frameInB;
+	pose.frameA.getBasis().transposeTimes(pose.frameB.getBasis()).getRotation(pose.q);
+	return pose;
+}
+
 void btQuaternionHingeConstraint::initFromSettings()
 {
+	m_poseCached = false;
 	m_multiTurnAngle = 0;
 	m_multiTurnValid = false;
 	m_trackAlways = false;
@@ -434,7 +429,7 @@ btScalar btQuaternionHingeConstraint::getHingeAngle() const
 btScalar btQuaternionHingeConstraint::getHingeAngle(const btTransform& transA, const btTransform& transB) const
 {
 	// (Q11) with stock's sign
-	return userSign(m_settings.useReferenceFrameA) * hingeAngle(jointPose(transA, transB, m_settings).q);
+	return userSign(m_settings.useReferenceFrameA) * hingeAngle(poseAt(transA, transB).q);
 }
 
 bool btQuaternionHingeConstraint::needsAngle() const
@@ -483,7 +478,9 @@ void btQuaternionHingeConstraint::testLimit(const btTransform& transA, const btT
 	m_limitSign = 0;
 	m_limitSpeculative = false;
 	if (!m_settings.hasLimit) return;
-	updateMultiTurnAngle(getHingeAngle(transA, transB));
+	m_pose = poseAt(transA, transB);
+	m_poseCached = true;
+	updateMultiTurnAngle(userSign(m_settings.useReferenceFrameA) * hingeAngle(m_pose.q));
 	const LimitState limit = evaluateLimit(m_settings, m_multiTurnAngle);
 	m_limitSign = limit.sign;
 	m_limitSpeculative = limit.speculative;
@@ -617,8 +614,13 @@ void btQuaternionHingeConstraint::computeRowCount(btConstraintInfo1* info, const
 	int rows = m_settings.angularOnly ? 2 : 5;
 	if (needsAngle())
 	{
-		if (m_settings.hasLimit) testLimit(transA, transB);  // also advances the multi-turn angle
-		else updateMultiTurnAngle(getHingeAngle(transA, transB));
+		if (m_settings.hasLimit) testLimit(transA, transB);  // caches the pose, advances the multi-turn angle
+		else
+		{
+			m_pose = poseAt(transA, transB);
+			m_poseCached = true;
+			updateMultiTurnAngle(userSign(m_settings.useReferenceFrameA) * hingeAngle(m_pose.q));
+		}
 	}
 	else
 	{
@@ -643,6 +645,7 @@ void btQuaternionHingeConstraint::getInfo2NonVirtual(btConstraintInfo2* info, co
 													 const btTransform& transB, const btVector3& angVelA,
 													 const btVector3& angVelB)
 {
+	m_poseCached = false;       // a cached pose belongs to the body transforms, not to these
 	testLimit(transA, transB);  // as stock: getInfo1 did not run for these transforms
 	fillRows(info, transA, transB, angVelA, angVelB);
 }
@@ -725,7 +728,7 @@ int btQuaternionHingeConstraint::computePositionRows(const btTransform& transA, 
 	info.m_upperLimit = 0;
 	info.m_numIterations = 0;
 	info.m_damping = 1;
-	const JointPose pose = jointPose(transA, transB, m_settings);
+	const Pose pose = poseAt(transA, transB);
 	const int rows = fillBilateralRows(&info, transA, transB, pose.frameA, pose.frameB, pose.q, true);
 	for (int r = 0; r < rows; ++r)
 	{
@@ -740,7 +743,8 @@ void btQuaternionHingeConstraint::fillRows(btConstraintInfo2* info, const btTran
 										   const btVector3& angVelB)
 {
 	if (m_numRows == 0) return;
-	const JointPose pose = jointPose(transA, transB, m_settings);
+	const Pose pose = m_poseCached ? m_pose : poseAt(transA, transB);
+	m_poseCached = false;
 	int row = fillBilateralRows(info, transA, transB, pose.frameA, pose.frameB, pose.q, false);
 	const int skip = info->rowskip;
 

@@ -269,6 +269,14 @@ public:
 	void debugDraw(btIDebugDraw * drawer, btScalar size = btScalar(0.3)) const;
 
 private:
+	/// The joint frames in world and q = a* ⊗ b (Q2) for one pair of body transforms.
+	struct Pose
+	{
+		btTransform frameA;
+		btTransform frameB;
+		btQuaternion q;
+	};
+	Pose poseAt(const btTransform& transA, const btTransform& transB) const;
 	void initFromSettings();
 	void validateFramesIfEdited();
 	void rebranchForLimit();
@@ -292,6 +300,8 @@ private:
 	bool m_limitSpeculative;       // the limit row is on but the stop is not yet reached
 	int m_numRows;
 	btQuaternionHingeFault m_fault;
+	Pose m_pose;        // computed in getInfo1 when an angle was needed, reused by the getInfo2 that follows
+	bool m_poseCached;
 };
 
 /// Replaces every btHingeConstraint in `world` by its equivalent btQuaternionHingeConstraint (same place in the
