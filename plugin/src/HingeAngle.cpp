@@ -7,7 +7,8 @@ namespace quathinge
 {
 btScalar wrapAngle(btScalar angle)
 {
-	// into (−π, π]
+	// into (−π, π]; the per-step differences of the multi-turn update are already inside, so test before dividing
+	if (angle > -SIMD_PI && angle <= SIMD_PI) return angle;
 	angle = btFmod(angle, SIMD_2_PI);
 	if (angle <= -SIMD_PI) angle += SIMD_2_PI;
 	else if (angle > SIMD_PI) angle -= SIMD_2_PI;

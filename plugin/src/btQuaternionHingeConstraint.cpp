@@ -34,10 +34,12 @@ bool finiteVector(const btVector3& v) { return std::isfinite(v.x()) && std::isfi
 
 bool finiteBodyState(const btRigidBody& body)
 {
+	// NaN and ±∞ survive a sum (a finite overflow to ∞ would need values near 1e38: not a usable state either), so
+	// one isfinite covers the transform and both velocities.
 	const btTransform& t = body.getCenterOfMassTransform();
-	return finiteVector(t.getOrigin()) && finiteVector(t.getBasis()[0]) && finiteVector(t.getBasis()[1]) &&
-		   finiteVector(t.getBasis()[2]) && finiteVector(body.getLinearVelocity()) &&
-		   finiteVector(body.getAngularVelocity());
+	const btVector3 sum = t.getOrigin() + t.getBasis()[0] + t.getBasis()[1] + t.getBasis()[2] +
+						  body.getLinearVelocity() + body.getAngularVelocity();
+	return finiteVector(sum);
 }
 
 bool isStaticLike(const btRigidBody& body)
@@ -659,29 +661,34 @@ int btQuaternionHingeConstraint::fillBilateralRows(btConstraintInfo2* info, cons
 	const int skip = info->rowskip;
 	int row = 0;
 
-	// Point part: C = p_B − p_A, J = [−I, [r_A]×ᵀ…] per axis e_i (MATH.md, "Bullet's conventions"; Q10 sign).
+	// Per-row ERP/CFM only when some override is set (the common case writes one ERP and leaves CFM alone).
+	const bool overrides = !rawError && m_settings.flags != 0;
+	const btScalar globalErp = rawError ? btScalar(1) : info->erp;
+
+	// Point part: C = p_B − p_A (MATH.md, "Bullet's conventions"). Ċ_i = e_i·(v_B + ω_B × r_B − v_A − ω_A × r_A), so
+	// row i is J1 = (−e_i, e_i × r_A) = (−e_i, row i of [r_A]×) and J2 = (e_i, r_B × e_i) = (e_i, row i of −[r_B]×);
+	// error −erp·fps·C (Q10). The solver hands rows in zeroed, so only non-zero entries are written.
 	if (!m_settings.angularOnly)
 	{
 		const btVector3 rA = frameA.getOrigin() - transA.getOrigin();
 		const btVector3 rB = frameB.getOrigin() - transB.getOrigin();
 		const btVector3 c = frameB.getOrigin() - frameA.getOrigin();
+		btVector3 skewA[3], skewB[3];
+		rA.getSkewSymmetricMatrix(&skewA[0], &skewA[1], &skewA[2]);
+		(-rB).getSkewSymmetricMatrix(&skewB[0], &skewB[1], &skewB[2]);
 		for (int i = 0; i < 3; ++i, ++row)
 		{
-			btVector3 e(0, 0, 0);
-			e[i] = 1;
 			const int at = row * skip;
-			const btVector3 angA = e.cross(rA);  // Ċ_i ∋ −(ω_A × r_A)_i = ω_A·(e_i × r_A)
-			const btVector3 angB = rB.cross(e);  // Ċ_i ∋ (ω_B × r_B)_i = ω_B·(r_B × e_i)
+			info->m_J1linearAxis[at + i] = -1;
+			info->m_J2linearAxis[at + i] = 1;
 			for (int k = 0; k < 3; ++k)
 			{
-				info->m_J1linearAxis[at + k] = -e[k];
-				info->m_J1angularAxis[at + k] = angA[k];
-				info->m_J2linearAxis[at + k] = e[k];
-				info->m_J2angularAxis[at + k] = angB[k];
+				info->m_J1angularAxis[at + k] = skewA[i][k];
+				info->m_J2angularAxis[at + k] = skewB[i][k];
 			}
-			const btScalar erp = rawError ? btScalar(1) : rowErp(kLinearKind + i, info->erp);
-			info->m_constraintError[at] = -erp * info->fps * c[i];  // (Q10)
-			if (!rawError && (m_settings.flags & (BT_QHINGE_FLAGS_CFM_ROW0 << (kLinearKind + i))))
+			const btScalar erp = overrides ? rowErp(kLinearKind + i, globalErp) : globalErp;
+			info->m_constraintError[at] = -erp * info->fps * c[i];
+			if (overrides && (m_settings.flags & (BT_QHINGE_FLAGS_CFM_ROW0 << (kLinearKind + i))))
 				info->cfm[at] = m_settings.rowCfm[kLinearKind + i];
 		}
 	}
@@ -700,9 +707,9 @@ int btQuaternionHingeConstraint::fillBilateralRows(btConstraintInfo2* info, cons
 			info->m_J1angularAxis[at + k] = -(*axes[j])[k];
 			info->m_J2angularAxis[at + k] = (*axes[j])[k];
 		}
-		const btScalar erp = rawError ? btScalar(1) : rowErp(kind, info->erp);
+		const btScalar erp = overrides ? rowErp(kind, globalErp) : globalErp;
 		info->m_constraintError[at] = -erp * info->fps * errors[j];
-		if (!rawError && (m_settings.flags & (BT_QHINGE_FLAGS_CFM_ROW0 << kind))) info->cfm[at] = m_settings.rowCfm[kind];
+		if (overrides && (m_settings.flags & (BT_QHINGE_FLAGS_CFM_ROW0 << kind))) info->cfm[at] = m_settings.rowCfm[kind];
 	}
 	return row;
 }
