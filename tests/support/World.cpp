@@ -1,0 +1,112 @@
+#include "support/World.h"
+
+#include "BulletDynamics/ConstraintSolver/btNNCGConstraintSolver.h"
+#include "BulletDynamics/MLCPSolvers/btDantzigSolver.h"
+#include "BulletDynamics/MLCPSolvers/btMLCPSolver.h"
+
+#include <cstring>
+
+namespace qh_test
+{
+struct World::Extra
+{
+	btDantzigSolver dantzig;
+};
+
+World::World(SolverKind solver, const btVector3& gravity)
+	: m_config(new btDefaultCollisionConfiguration),
+	  m_dispatcher(new btCollisionDispatcher(m_config.get())),
+	  m_broadphase(new btDbvtBroadphase),
+	  m_extra(new Extra)
+{
+	switch (solver)
+	{
+		case SolverKind::SequentialImpulse:
+			m_solver.reset(new btSequentialImpulseConstraintSolver);
+			break;
+		case SolverKind::NNCG:
+			m_solver.reset(new btNNCGConstraintSolver);
+			break;
+		case SolverKind::MLCPDantzig:
+			m_solver.reset(new btMLCPSolver(&m_extra->dantzig));
+			break;
+	}
+	m_world.reset(new btDiscreteDynamicsWorld(m_dispatcher.get(), m_broadphase.get(), m_solver.get(), m_config.get()));
+	m_world->setGravity(gravity);
+}
+
+World::~World()
+{
+	for (auto& c : m_constraints) m_world->removeConstraint(c.get());
+	for (auto& b : m_bodies) m_world->removeRigidBody(b.get());
+}
+
+btRigidBody* World::addBox(btScalar mass, const btVector3& halfExtents, const btTransform& pose)
+{
+	m_shapes.emplace_back(new btBoxShape(halfExtents));
+	btVector3 inertia(0, 0, 0);
+	if (mass > 0) m_shapes.back()->calculateLocalInertia(mass, inertia);
+	btRigidBody::btRigidBodyConstructionInfo info(mass, nullptr, m_shapes.back().get(), inertia);
+	info.m_startWorldTransform = pose;
+	m_bodies.emplace_back(new btRigidBody(info));
+	m_bodies.back()->setActivationState(DISABLE_DEACTIVATION);
+	m_world->addRigidBody(m_bodies.back().get());
+	return m_bodies.back().get();
+}
+
+void World::step(int steps, btScalar dt, int iterations)
+{
+	m_world->getSolverInfo().m_numIterations = iterations;
+	for (int i = 0; i < steps; ++i) m_world->stepSimulation(dt, 0, dt);
+}
+
+double separation(const btRigidBody& a, const btTransform& frameA, const btRigidBody& b, const btTransform& frameB)
+{
+	return ((b.getCenterOfMassTransform() * frameB.getOrigin()) - (a.getCenterOfMassTransform() * frameA.getOrigin()))
+		.length();
+}
+
+double misalignmentDeg(const btRigidBody& a, const btTransform& frameA, const btRigidBody& b,
+					   const btTransform& frameB)
+{
+	const btVector3 za = a.getCenterOfMassTransform().getBasis() * frameA.getBasis().getColumn(2);
+	const btVector3 zb = b.getCenterOfMassTransform().getBasis() * frameB.getBasis().getColumn(2);
+	return double(za.angle(zb)) * kDeg;
+}
+
+ScratchRows::ScratchRows(btScalar fps, btScalar erp)
+{
+	std::memset(j1lin, 0, sizeof(j1lin));
+	std::memset(j1ang, 0, sizeof(j1ang));
+	std::memset(j2lin, 0, sizeof(j2lin));
+	std::memset(j2ang, 0, sizeof(j2ang));
+	std::memset(error, 0, sizeof(error));
+	std::memset(cfm, 0, sizeof(cfm));
+	for (int i = 0; i < kRows * kStride; ++i)
+	{
+		lower[i] = -SIMD_INFINITY;
+		upper[i] = SIMD_INFINITY;
+	}
+	info.fps = fps;
+	info.erp = erp;
+	info.m_J1linearAxis = j1lin;
+	info.m_J1angularAxis = j1ang;
+	info.m_J2linearAxis = j2lin;
+	info.m_J2angularAxis = j2ang;
+	info.rowskip = kStride;
+	info.m_constraintError = error;
+	info.cfm = cfm;
+	info.m_lowerLimit = lower;
+	info.m_upperLimit = upper;
+	info.m_numIterations = 10;
+	info.m_damping = 1;
+}
+
+btQuaternion expRotation(const btVector3& w)
+{
+	const btScalar angle = w.length();
+	if (angle == 0) return btQuaternion::getIdentity();
+	return btQuaternion(w / angle, angle);
+}
+
+}  // namespace qh_test

@@ -1,0 +1,88 @@
+// Shared test fixture: a small Bullet world that owns its bodies and constraints, steps at a fixed rate, and measures
+// what the tests compare (joint separation in m, axis misalignment in degrees) for any hinge-like joint.
+#ifndef QUATHINGE_TESTS_WORLD_H
+#define QUATHINGE_TESTS_WORLD_H
+
+#include <btBulletDynamicsCommon.h>
+
+#include <memory>
+#include <vector>
+
+namespace qh_test
+{
+enum class SolverKind
+{
+	SequentialImpulse,
+	NNCG,
+	MLCPDantzig
+};
+
+/// Degrees per radian.
+constexpr double kDeg = 180.0 / 3.14159265358979323846;
+
+class World
+{
+public:
+	explicit World(SolverKind solver = SolverKind::SequentialImpulse, const btVector3& gravity = btVector3(0, -10, 0));
+	~World();
+	World(const World&) = delete;
+	World& operator=(const World&) = delete;
+
+	/// A box body of the given half extents; mass 0 makes it static.
+	btRigidBody* addBox(btScalar mass, const btVector3& halfExtents, const btTransform& pose);
+	/// Adds (and owns) a constraint.
+	template <class T>
+	T* add(T* constraint, bool disableCollisions = true)
+	{
+		m_constraints.emplace_back(constraint);
+		m_world->addConstraint(constraint, disableCollisions);
+		return constraint;
+	}
+	void step(int steps = 1, btScalar dt = btScalar(1) / 60, int iterations = 10);
+	btDiscreteDynamicsWorld& world() { return *m_world; }
+
+private:
+	std::unique_ptr<btDefaultCollisionConfiguration> m_config;
+	std::unique_ptr<btCollisionDispatcher> m_dispatcher;
+	std::unique_ptr<btBroadphaseInterface> m_broadphase;
+	std::unique_ptr<btConstraintSolver> m_solver;
+	std::unique_ptr<btDiscreteDynamicsWorld> m_world;
+	std::vector<std::unique_ptr<btCollisionShape>> m_shapes;
+	std::vector<std::unique_ptr<btRigidBody>> m_bodies;
+	std::vector<std::unique_ptr<btTypedConstraint>> m_constraints;
+	struct Extra;
+	std::unique_ptr<Extra> m_extra;
+};
+
+/// Distance between the two world pivots (m) and angle between the two world hinge axes (deg), given a joint's frames.
+double separation(const btRigidBody& a, const btTransform& frameA, const btRigidBody& b, const btTransform& frameB);
+double misalignmentDeg(const btRigidBody& a, const btTransform& frameA, const btRigidBody& b,
+					   const btTransform& frameB);
+
+/// Scratch rows for calling getInfo1/getInfo2 by hand (rowskip kStride, zeroed, bounds ±∞ as the solver sets them).
+struct ScratchRows
+{
+	static constexpr int kRows = 8;
+	static constexpr int kStride = 16;
+	btScalar j1lin[kRows * kStride], j1ang[kRows * kStride], j2lin[kRows * kStride], j2ang[kRows * kStride];
+	btScalar error[kRows * kStride], cfm[kRows * kStride], lower[kRows * kStride], upper[kRows * kStride];
+	btTypedConstraint::btConstraintInfo2 info;
+	explicit ScratchRows(btScalar fps = 60, btScalar erp = btScalar(0.2));
+	btVector3 linA(int r) const { return btVector3(j1lin[r * kStride], j1lin[r * kStride + 1], j1lin[r * kStride + 2]); }
+	btVector3 angA(int r) const { return btVector3(j1ang[r * kStride], j1ang[r * kStride + 1], j1ang[r * kStride + 2]); }
+	btVector3 linB(int r) const { return btVector3(j2lin[r * kStride], j2lin[r * kStride + 1], j2lin[r * kStride + 2]); }
+	btVector3 angB(int r) const { return btVector3(j2ang[r * kStride], j2ang[r * kStride + 1], j2ang[r * kStride + 2]); }
+	btScalar err(int r) const { return error[r * kStride]; }
+	btScalar lo(int r) const { return lower[r * kStride]; }
+	btScalar hi(int r) const { return upper[r * kStride]; }
+};
+
+/// Rotation by the rotation vector w (axis · angle).
+btQuaternion expRotation(const btVector3& w);
+
+/// True when btScalar is double.
+constexpr bool kDouble = sizeof(btScalar) == 8;
+
+}  // namespace qh_test
+
+#endif
