@@ -1,7 +1,7 @@
 // btQuaternionHingeConstraint: composes the point part (3 linear rows), the quaternion two-row part
 // (QuaternionHingeRows.h, MATH.md Q2–Q10, Q12) and the axis part (AxisRows.h: limit, drive, friction), and tracks the
 // multi-turn angle (HingeAngle.h, Q11). getInfo1 decides which rows exist; getInfo2 fills them in that order:
-//   [0..2] point-to-point (unless angular-only)   [next 2] quaternion rows   [limit] [drive] [friction]
+//   [0..2] point-to-point (unless angular-only)   [next 2] quaternion rows   [drive] [friction] [limit]
 #include "quathinge/btQuaternionHingeConstraint.h"
 
 #include "AxisRows.h"
@@ -777,13 +777,6 @@ void btQuaternionHingeConstraint::fillRows(btConstraintInfo2* info, const btTran
 		if (setCfm) info->cfm[at] = cfm;
 		++row;
 	};
-	if (m_limitSign != 0)
-	{
-		LimitState limit = evaluateLimit(m_settings, m_multiTurnAngle);
-		const btScalar stopErp = (m_settings.flags & BT_QHINGE_FLAGS_ERP_STOP) ? m_settings.stopErp : normalErp;
-		emit(limitRow(m_settings, limit, rate, info->fps, stopErp), (m_settings.flags & BT_QHINGE_FLAGS_CFM_STOP) != 0,
-			 m_settings.stopCfm);
-	}
 	const bool axialCfm = (m_settings.flags & (BT_QHINGE_FLAGS_CFM_ROW0 << kAxialKind)) != 0;
 	if (drive)
 	{
@@ -796,4 +789,13 @@ void btQuaternionHingeConstraint::fillRows(btConstraintInfo2* info, const btTran
 			 m_settings.rowCfm[kAxialKind]);
 	}
 	if (friction) emit(frictionRow(m_settings, info->fps), axialCfm, m_settings.rowCfm[kAxialKind]);
+	// The limit row comes last: Gauss–Seidel leaves each sweep with the last row satisfied, so a stop is never crossed
+	// because a drive row was solved after it (a motor driven into a stop is held by the stop).
+	if (m_limitSign != 0)
+	{
+		const LimitState limit = evaluateLimit(m_settings, m_multiTurnAngle);
+		const btScalar stopErp = (m_settings.flags & BT_QHINGE_FLAGS_ERP_STOP) ? m_settings.stopErp : normalErp;
+		emit(limitRow(m_settings, limit, rate, info->fps, stopErp), (m_settings.flags & BT_QHINGE_FLAGS_CFM_STOP) != 0,
+			 m_settings.stopCfm);
+	}
 }
