@@ -1,0 +1,151 @@
+// Bad input gets a clear error naming the parameter (std::invalid_argument) and never reaches the joint or the
+// solver; bad state from outside (a NaN velocity) disables the joint instead of spreading.
+#include "quathinge/btQuaternionHingeConstraint.h"
+#include "support/World.h"
+
+#include <gtest/gtest.h>
+
+#include <functional>
+#include <limits>
+#include <stdexcept>
+#include <string>
+
+namespace
+{
+const btScalar kNaN = std::numeric_limits<btScalar>::quiet_NaN();
+const btScalar kInf = std::numeric_limits<btScalar>::infinity();
+
+// Expects `call` to throw std::invalid_argument whose message contains `parameter`.
+void expectRefused(const std::function<void()>& call, const std::string& parameter)
+{
+	try
+	{
+		call();
+		ADD_FAILURE() << "accepted, expected a refusal naming " << parameter;
+	}
+	catch (const std::invalid_argument& e)
+	{
+		EXPECT_NE(std::string(e.what()).find(parameter), std::string::npos) << e.what() << " does not name " << parameter;
+	}
+}
+
+struct Bodies
+{
+	btBoxShape shape{btVector3(1, 1, 1)};
+	btRigidBody a{1, nullptr, &shape, btVector3(1, 1, 1)};
+	btRigidBody b{1, nullptr, &shape, btVector3(1, 1, 1)};
+};
+}  // namespace
+
+TEST(BadInput, ConstructorsRefuseBadArguments)
+{
+	// NaN/Inf pivots, zero and non-unit axes, non-rigid frames, the same body twice.
+	Bodies s;
+	const btVector3 z(0, 0, 1), o(0, 0, 0);
+	expectRefused([&] { btQuaternionHingeConstraint j(s.a, s.a, o, o, z, z); }, "rbB");
+	expectRefused([&] { btQuaternionHingeConstraint j(s.a, s.b, btVector3(kNaN, 0, 0), o, z, z); }, "pivotInA");
+	expectRefused([&] { btQuaternionHingeConstraint j(s.a, s.b, o, btVector3(0, kInf, 0), z, z); }, "pivotInB");
+	expectRefused([&] { btQuaternionHingeConstraint j(s.a, s.b, o, o, btVector3(0, 0, 0), z); }, "axisInA");
+	expectRefused([&] { btQuaternionHingeConstraint j(s.a, s.b, o, o, z, btVector3(0, 0, 2)); }, "axisInB");
+	expectRefused([&] { btQuaternionHingeConstraint j(s.a, o, btVector3(kNaN, 0, 1)); }, "axisInA");
+	btTransform sheared = btTransform::getIdentity();
+	sheared.getBasis()[0][1] = btScalar(0.5);
+	expectRefused([&] { btQuaternionHingeConstraint j(s.a, s.b, sheared, btTransform::getIdentity()); }, "rbAFrame");
+	btTransform mirrored = btTransform::getIdentity();
+	mirrored.getBasis()[2][2] = -1;
+	expectRefused([&] { btQuaternionHingeConstraint j(s.a, s.b, btTransform::getIdentity(), mirrored); }, "rbBFrame");
+	expectRefused([&] { btQuaternionHingeConstraint j(s.a, sheared); }, "rbAFrame");
+	btQuaternionHingeSettings settings;
+	settings.driveMode = btQuaternionHingeDriveMode(17);
+	expectRefused([&] { btQuaternionHingeConstraint j(s.a, s.b, settings); }, "driveMode");
+}
+
+TEST(BadInput, SettersRefuseBadArgumentsAndKeepTheJointUnchanged)
+{
+	// Every setter: the error names the parameter, and the settings after the refusal are the settings before it.
+	Bodies s;
+	btQuaternionHingeConstraint j(s.a, s.b, btTransform::getIdentity(), btTransform::getIdentity());
+	j.setLimit(-1, 1);
+	j.enableAngularMotor(true, 1, 2);
+	const btQuaternionHingeSettings before = j.getSettings();
+	expectRefused([&] { j.setLimit(2, 1); }, "low");
+	expectRefused([&] { j.setLimit(kNaN, 1); }, "low");
+	expectRefused([&] { j.setLimit(0, kNaN); }, "high");
+	expectRefused([&] { j.setLimit(-1, 1, 0); }, "softness");
+	expectRefused([&] { j.setLimit(-1, 1, btScalar(0.9), 2); }, "biasFactor");
+	expectRefused([&] { j.setLimit(-1, 1, btScalar(0.9), btScalar(0.3), -1); }, "relaxationFactor");
+	expectRefused([&] { j.enableAngularMotor(true, kNaN, 1); }, "targetVelocity");
+	expectRefused([&] { j.enableAngularMotor(true, 1, -1); }, "maxMotorImpulse");
+	expectRefused([&] { j.setMaxMotorImpulse(-2); }, "maxMotorImpulse");
+	expectRefused([&] { j.setMotorTargetVelocity(kInf); }, "motorTargetVelocity");
+	expectRefused([&] { j.setMotorTarget(1, 0); }, "dt");
+	expectRefused([&] { j.setMotorTarget(btQuaternion(0, 0, 0, 0), 1); }, "qAinB");
+	expectRefused([&] { j.setServoTarget(1, 0); }, "maxSpeed");
+	expectRefused([&] { j.setServoTarget(1, 1, -1); }, "maxTorque");
+	expectRefused([&] { j.setSpring(0, 0, 1); }, "frequencyHz");
+	expectRefused([&] { j.setSpring(0, 1, -1); }, "dampingRatio");
+	expectRefused([&] { j.setMaxFrictionTorque(-1); }, "maxTorque");
+	expectRefused([&] { j.setParam(BT_CONSTRAINT_ERP, btScalar(1.5)); }, "ERP");
+	expectRefused([&] { j.setParam(BT_CONSTRAINT_CFM, 1); }, "CFM");
+	expectRefused([&] { j.setParam(BT_CONSTRAINT_CFM, -btScalar(0.1)); }, "CFM");
+	expectRefused([&] { j.setParam(99, 0); }, "num");
+	expectRefused([&] { j.setParam(BT_CONSTRAINT_ERP, btScalar(0.5), 6); }, "axis");
+	expectRefused([&] { j.setParam(BT_CONSTRAINT_STOP_ERP, btScalar(0.5), 2); }, "axis");
+	expectRefused([&] { j.getParam(BT_CONSTRAINT_CFM, 3); }, "num");  // never set
+	expectRefused([&] { j.setFrames(btTransform(btMatrix3x3(2, 0, 0, 0, 1, 0, 0, 0, 1)), btTransform::getIdentity()); }, "frameA");
+	btVector3 zero(0, 0, 0);
+	expectRefused([&] { j.setAxis(zero); }, "axisInA");
+	expectRefused([&] { j.setMultiTurnAngle(kNaN); }, "angle");
+	const btQuaternionHingeSettings& after = j.getSettings();
+	EXPECT_EQ(after.lowerLimit, before.lowerLimit);
+	EXPECT_EQ(after.upperLimit, before.upperLimit);
+	EXPECT_EQ(after.limitSoftness, before.limitSoftness);
+	EXPECT_EQ(after.motorTargetVelocity, before.motorTargetVelocity);
+	EXPECT_EQ(after.maxMotorImpulse, before.maxMotorImpulse);
+	EXPECT_EQ(after.driveMode, before.driveMode);
+	EXPECT_EQ(after.flags, before.flags);
+	EXPECT_EQ(after.maxFrictionTorque, before.maxFrictionTorque);
+	EXPECT_EQ(after.frameInA.getBasis(), before.frameInA.getBasis());
+}
+
+TEST(BadInput, NaNVelocityFromOutsideDisablesTheJointInsteadOfSpreading)
+{
+	// A user sets a NaN velocity on one body: the joint reports no rows, disables itself, says why, and the body on
+	// the other side stays finite.
+	qh_test::World world;
+	btRigidBody* a = world.addBox(1, btVector3(1, 1, 1), btTransform::getIdentity());
+	btRigidBody* b = world.addBox(1, btVector3(1, 1, 1), btTransform(btQuaternion::getIdentity(), btVector3(0, -2, 0)));
+	auto* joint = world.add(new btQuaternionHingeConstraint(*a, *b, btVector3(0, -1, 0), btVector3(0, 1, 0), btVector3(0, 0, 1), btVector3(0, 0, 1)));
+	world.step(5);
+	a->setAngularVelocity(btVector3(kNaN, 0, 0));
+	world.step(1);
+	EXPECT_EQ(joint->getFault(), BT_QHINGE_FAULT_NONFINITE_BODY_STATE);
+	EXPECT_FALSE(joint->isEnabled());
+	EXPECT_EQ(joint->getNumRowsLastStep(), 0);
+	world.step(10);
+	const btVector3 p = b->getCenterOfMassPosition();
+	EXPECT_TRUE(std::isfinite(p.x()) && std::isfinite(p.y()) && std::isfinite(p.z()));
+	EXPECT_TRUE(std::isfinite(b->getAngularVelocity().length()));
+	// repaired and cleared: the joint works again
+	a->setAngularVelocity(btVector3(0, 0, 0));
+	a->setLinearVelocity(btVector3(0, 0, 0));
+	a->setCenterOfMassTransform(btTransform::getIdentity());
+	joint->clearFault();
+	world.step(1);
+	EXPECT_EQ(joint->getFault(), BT_QHINGE_FAULT_NONE);
+	EXPECT_EQ(joint->getNumRowsLastStep(), 5);
+}
+
+TEST(BadInput, FrameEditedThroughAReferenceIsCheckedBeforeTheSolve)
+{
+	// getFrameOffsetA() hands out a non-const reference (as stock); a non-rigid edit disables the joint at the next
+	// solve instead of feeding the solver a sheared frame.
+	Bodies s;
+	btQuaternionHingeConstraint j(s.a, s.b, btTransform::getIdentity(), btTransform::getIdentity());
+	j.getFrameOffsetA().getBasis()[0][0] = 3;
+	btTypedConstraint::btConstraintInfo1 info;
+	j.getInfo1(&info);
+	EXPECT_EQ(info.m_numConstraintRows, 0);
+	EXPECT_EQ(j.getFault(), BT_QHINGE_FAULT_FRAME_EDITED_INVALID);
+	EXPECT_FALSE(j.isEnabled());
+}

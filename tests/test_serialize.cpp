@@ -1,0 +1,115 @@
+// Serialization writes everything a reader needs: every setting round-trips field by field, and the prefix is a
+// stock btHingeConstraintData.
+#include "quathinge/btQuaternionHingeSerialization.h"
+
+#include <btBulletDynamicsCommon.h>
+#include <gtest/gtest.h>
+
+#include <cstring>
+#include <memory>
+#include <stdexcept>
+#include <vector>
+
+namespace
+{
+std::vector<unsigned char> serialize(const btQuaternionHingeConstraint& joint)
+{
+	btDefaultSerializer serializer;
+	serializer.startSerialization();
+	std::vector<unsigned char> buffer(size_t(joint.calculateSerializeBufferSize()));
+	const char* name = joint.serialize(buffer.data(), &serializer);
+	EXPECT_STREQ(name, btHingeConstraintDataName);
+	serializer.finishSerialization();
+	return buffer;
+}
+}  // namespace
+
+TEST(Serialization, EverySettingRoundTrips)
+{
+	// A joint with every feature set is written and read back; each field compares equal.
+	btBoxShape shape(btVector3(1, 1, 1));
+	btRigidBody a(1, nullptr, &shape, btVector3(1, 1, 1)), b(1, nullptr, &shape, btVector3(1, 1, 1));
+	const btTransform fa(btQuaternion(btVector3(1, 0, 0), btScalar(0.3)), btVector3(0, 1, 0));
+	const btTransform fb(btQuaternion(btVector3(0, 1, 0), btScalar(0.2)), btVector3(0, -1, 0));
+	btQuaternionHingeConstraint joint(a, b, fa, fb, true);
+	joint.setAngularOnly(true);
+	joint.setUseFrameOffset(false);
+	joint.setLimit(-7, 9, btScalar(0.7), btScalar(0.2), btScalar(0.4));  // wider than 2π: stock cannot hold it
+	joint.setSpring(btScalar(0.25), 3, btScalar(0.6));
+	joint.setMotorTargetVelocity(btScalar(1.25));
+	joint.setMaxMotorImpulse(btScalar(4.5));
+	joint.setMaxFrictionTorque(btScalar(0.75));
+	joint.setParam(BT_CONSTRAINT_ERP, btScalar(0.4), 3);
+	joint.setParam(BT_CONSTRAINT_CFM, btScalar(0.01), 1);
+	joint.setParam(BT_CONSTRAINT_STOP_ERP, btScalar(0.7));
+	joint.setParam(BT_CONSTRAINT_STOP_CFM, btScalar(0.02));
+	joint.setBreakingImpulseThreshold(77);
+	joint.setUserConstraintType(5);
+	joint.setOverrideNumSolverIterations(23);
+	const std::vector<unsigned char> buffer = serialize(joint);
+
+	btQuaternionHingeSettings s;
+	std::string why;
+	ASSERT_TRUE(btQuaternionHingeReadSettings(buffer.data(), buffer.size(), s, &why)) << why;
+	const btQuaternionHingeSettings& o = joint.getSettings();
+	EXPECT_EQ(s.frameInA.getOrigin(), o.frameInA.getOrigin());
+	EXPECT_EQ(s.frameInB.getOrigin(), o.frameInB.getOrigin());
+	EXPECT_EQ(s.frameInA.getBasis(), o.frameInA.getBasis());
+	EXPECT_EQ(s.frameInB.getBasis(), o.frameInB.getBasis());
+	EXPECT_EQ(s.useReferenceFrameA, o.useReferenceFrameA);
+	EXPECT_EQ(s.angularOnly, o.angularOnly);
+	EXPECT_EQ(s.useFrameOffset, o.useFrameOffset);
+	EXPECT_EQ(s.hasLimit, o.hasLimit);
+	EXPECT_EQ(s.lowerLimit, o.lowerLimit);
+	EXPECT_EQ(s.upperLimit, o.upperLimit);
+	EXPECT_EQ(s.limitSoftness, o.limitSoftness);
+	EXPECT_EQ(s.limitBiasFactor, o.limitBiasFactor);
+	EXPECT_EQ(s.limitRelaxationFactor, o.limitRelaxationFactor);
+	EXPECT_EQ(s.driveMode, o.driveMode);
+	EXPECT_EQ(s.motorTargetVelocity, o.motorTargetVelocity);
+	EXPECT_EQ(s.maxMotorImpulse, o.maxMotorImpulse);
+	EXPECT_EQ(s.servoTargetAngle, o.servoTargetAngle);
+	EXPECT_EQ(s.servoMaxSpeed, o.servoMaxSpeed);
+	EXPECT_EQ(s.servoMaxTorque, o.servoMaxTorque);
+	EXPECT_EQ(s.springRestAngle, o.springRestAngle);
+	EXPECT_EQ(s.springFrequency, o.springFrequency);
+	EXPECT_EQ(s.springDampingRatio, o.springDampingRatio);
+	EXPECT_EQ(s.maxFrictionTorque, o.maxFrictionTorque);
+	for (int i = 0; i < 6; ++i)
+	{
+		EXPECT_EQ(s.rowErp[i], o.rowErp[i]) << i;
+		EXPECT_EQ(s.rowCfm[i], o.rowCfm[i]) << i;
+	}
+	EXPECT_EQ(s.stopErp, o.stopErp);
+	EXPECT_EQ(s.stopCfm, o.stopCfm);
+	EXPECT_EQ(s.flags, o.flags);
+
+	// The whole joint back, including what btTypedConstraint keeps.
+	std::unique_ptr<btQuaternionHingeConstraint> restored(btQuaternionHingeDeserialize(buffer.data(), buffer.size(), a, b));
+	EXPECT_EQ(restored->getBreakingImpulseThreshold(), btScalar(77));
+	EXPECT_EQ(restored->getUserConstraintType(), 5);
+	EXPECT_EQ(restored->getOverrideNumSolverIterations(), 23);
+	EXPECT_EQ(restored->getDriveMode(), BT_QHINGE_DRIVE_SPRING);
+	EXPECT_EQ(restored->getParam(BT_CONSTRAINT_CFM, 1), btScalar(0.01));
+}
+
+TEST(Serialization, PrefixIsAStockHingeAndAPlainStockBufferIsRefused)
+{
+	// A Bullet reader sees a btHingeConstraintData of HINGE_CONSTRAINT_TYPE; a buffer without the tail is refused.
+	btBoxShape shape(btVector3(1, 1, 1));
+	btRigidBody a(1, nullptr, &shape, btVector3(1, 1, 1)), b(1, nullptr, &shape, btVector3(1, 1, 1));
+	btQuaternionHingeConstraint joint(a, b, btTransform::getIdentity(), btTransform::getIdentity());
+	joint.enableAngularMotor(true, 2, 3);
+	const std::vector<unsigned char> buffer = serialize(joint);
+	btHingeConstraintData stock;
+	std::memcpy(&stock, buffer.data(), sizeof(stock));
+	EXPECT_EQ(stock.m_typeConstraintData.m_objectType, int(HINGE_CONSTRAINT_TYPE));
+	EXPECT_EQ(stock.m_enableAngularMotor, 1);
+	EXPECT_EQ(stock.m_motorTargetVelocity, 2);
+	EXPECT_GT(stock.m_lowerLimit, stock.m_upperLimit);  // stock's "no limit"
+	btQuaternionHingeSettings s;
+	std::string why;
+	EXPECT_FALSE(btQuaternionHingeReadSettings(buffer.data(), sizeof(btHingeConstraintData), s, &why));
+	EXPECT_FALSE(why.empty());
+	EXPECT_THROW(btQuaternionHingeDeserialize(buffer.data(), sizeof(btHingeConstraintData), a, b), std::invalid_argument);
+}
