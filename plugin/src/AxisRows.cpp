@@ -5,7 +5,7 @@
 
 namespace quathinge
 {
-LimitState evaluateLimit(const btQuaternionHingeSettings& s, btScalar angle)
+LimitState evaluateLimit(const btQuaternionHingeSettings& s, btScalar angle, btScalar reach)
 {
 	LimitState state;
 	if (!s.hasLimit) return state;
@@ -18,7 +18,8 @@ LimitState evaluateLimit(const btQuaternionHingeSettings& s, btScalar angle)
 	}
 	const btScalar halfRange = btScalar(0.5) * (s.upperLimit - s.lowerLimit);
 	// speculative margin: the outer (1 − softness) of the half range; none for an unbounded side
-	const btScalar margin = std::isfinite(halfRange) ? (btScalar(1) - s.limitSoftness) * halfRange : btScalar(0);
+	const btScalar margin =
+		(std::isfinite(halfRange) ? (btScalar(1) - s.limitSoftness) * halfRange : btScalar(0)) + reach;
 	const btScalar toLower = angle - s.lowerLimit;
 	const btScalar toUpper = s.upperLimit - angle;
 	if (toLower <= margin && toLower <= toUpper)

@@ -4,6 +4,7 @@
 // getHingeAngle convention, σ = +1 with useReferenceFrameA, else −1), so the solver drives α̇ = J_α·v:
 //   limit (lower stop, impulse ≥ 0):   α̇ ≥ b·max(erp_stop·fps·(low − α), −r·α̇₀)   at or past the stop
 //                                      α̇ ≥ −(α − low)·fps                          speculative, before the stop
+//   (the speculative row is on once the stop is within (1 − softness)·half-range + |α̇|·h)
 //   (upper stop mirrored, impulse ≤ 0; low == high: bilateral lock). b = biasFactor, r = relaxationFactor (bounce),
 //   as btHingeConstraint's row; the speculative form lets the joint reach the stop within the step but not pass it.
 //   velocity motor:  α̇ = v_target, |impulse| ≤ maxMotorImpulse                   (btHingeConstraint's motor)
@@ -28,7 +29,9 @@ struct LimitState
 	bool speculative = false;  ///< the stop is not reached yet (distance > 0)
 	btScalar distance = 0;     ///< α − low (lower) or high − α (upper); negative when past the stop
 };
-LimitState evaluateLimit(const btQuaternionHingeSettings& s, btScalar angle);
+/// reach: how far the angle can move toward a stop within this step (|α̇|·h); the speculative row switches on once a
+/// stop is within the softness margin plus the reach, so a fast joint meets its stop instead of passing it.
+LimitState evaluateLimit(const btQuaternionHingeSettings& s, btScalar angle, btScalar reach);
 
 /// One axial row's right-hand side and impulse bounds.
 struct AxialRow

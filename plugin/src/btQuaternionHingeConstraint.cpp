@@ -218,6 +218,8 @@ void btQuaternionHingeConstraint::initFromSettings()
 	m_framesMayHaveChanged = false;
 	m_limitSign = 0;
 	m_limitSpeculative = false;
+	m_limitReach = 0;
+	m_lastTimeStep = 0;
 	m_numRows = 0;
 	m_fault = BT_QHINGE_FAULT_NONE;
 }
@@ -482,8 +484,12 @@ void btQuaternionHingeConstraint::testLimit(const btTransform& transA, const btT
 	if (!m_settings.hasLimit) return;
 	m_pose = poseAt(transA, transB);
 	m_poseCached = true;
-	updateMultiTurnAngle(userSign(m_settings.useReferenceFrameA) * hingeAngle(m_pose.q));
-	const LimitState limit = evaluateLimit(m_settings, m_multiTurnAngle);
+	const btScalar sigma = userSign(m_settings.useReferenceFrameA);
+	updateMultiTurnAngle(sigma * hingeAngle(m_pose.q));
+	// reach this step: the current relative speed about the axis times the last step (unknown before the first)
+	const btVector3 axis = m_pose.frameA.getBasis() * hingeAngleGradient(m_pose.q);
+	m_limitReach = btFabs(axis.dot(m_rbB.getAngularVelocity() - m_rbA.getAngularVelocity())) * m_lastTimeStep;
+	const LimitState limit = evaluateLimit(m_settings, m_multiTurnAngle, m_limitReach);
 	m_limitSign = limit.sign;
 	m_limitSpeculative = limit.speculative;
 }
@@ -750,6 +756,7 @@ void btQuaternionHingeConstraint::fillRows(btConstraintInfo2* info, const btTran
 										   const btVector3& angVelB)
 {
 	if (m_numRows == 0) return;
+	m_lastTimeStep = btScalar(1) / info->fps;
 	const Pose pose = m_poseCached ? m_pose : poseAt(transA, transB);
 	m_poseCached = false;
 	int row = fillBilateralRows(info, transA, transB, pose.frameA, pose.frameB, pose.q, false);
@@ -793,7 +800,7 @@ void btQuaternionHingeConstraint::fillRows(btConstraintInfo2* info, const btTran
 	// because a drive row was solved after it (a motor driven into a stop is held by the stop).
 	if (m_limitSign != 0)
 	{
-		const LimitState limit = evaluateLimit(m_settings, m_multiTurnAngle);
+		const LimitState limit = evaluateLimit(m_settings, m_multiTurnAngle, m_limitReach);
 		const btScalar stopErp = (m_settings.flags & BT_QHINGE_FLAGS_ERP_STOP) ? m_settings.stopErp : normalErp;
 		emit(limitRow(m_settings, limit, rate, info->fps, stopErp), (m_settings.flags & BT_QHINGE_FLAGS_CFM_STOP) != 0,
 			 m_settings.stopCfm);

@@ -298,6 +298,8 @@ private:
 	bool m_framesMayHaveChanged;   // a non-const frame reference was handed out
 	int m_limitSign;               // +1 lower stop row, −1 upper stop row, 0 none (as stock's getLimitSign)
 	bool m_limitSpeculative;       // the limit row is on but the stop is not yet reached
+	btScalar m_limitReach;         // |α̇|·h at the last limit test: how far the angle can move this step
+	btScalar m_lastTimeStep;       // h of the last getInfo2 (0 before the first)
 	int m_numRows;
 	btQuaternionHingeFault m_fault;
 	Pose m_pose;        // computed in getInfo1 when an angle was needed, reused by the getInfo2 that follows
