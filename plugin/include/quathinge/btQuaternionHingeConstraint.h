@@ -29,11 +29,13 @@ class btIDebugDraw;
 
 /// Constraint type reported by getConstraintType(). It is none of the types that
 /// btDiscreteDynamicsWorld::debugDrawConstraint downcasts (MATH.md, "Bullet's conventions"); the joint draws itself
-/// with btQuaternionHingeConstraint::debugDraw.
-const btTypedConstraintType QUATERNION_HINGE_CONSTRAINT_TYPE = btTypedConstraintType(MAX_CONSTRAINT_TYPE + 64);
+/// with btQuaternionHingeConstraint::debugDraw. The value is 15: btTypedConstraintType has no fixed underlying type,
+/// so only values inside its enumerators' bit range (0–15) are valid values of the enum (UBSan checks this); 14 and
+/// 15 are the unused ones above MAX_CONSTRAINT_TYPE (13).
+const btTypedConstraintType QUATERNION_HINGE_CONSTRAINT_TYPE = btTypedConstraintType(MAX_CONSTRAINT_TYPE + 2);
 
 /// How the axial drive row (at most one) behaves.
-enum btQuaternionHingeDriveMode
+enum btQuaternionHingeDriveMode : int  // fixed type: a corrupt value in a settings struct is defined, and refused
 {
 	BT_QHINGE_DRIVE_OFF = 0,       ///< no drive row
 	BT_QHINGE_DRIVE_VELOCITY = 1,  ///< btHingeConstraint's angular motor: target velocity, maximum impulse per step
