@@ -1,0 +1,179 @@
+/*
+QuatHinge — drift-free quaternion hinges by post-stabilization (shared/MATH.md, "Beyond the rows", Q13, Q14).
+
+btQuaternionHingeStabilizer is a btActionInterface. Add it to a world (world->addAction(&stabilizer)); Bullet then
+calls updateAction after integrating the transforms in every internal step (sub-steps included), and the stabilizer
+projects the bodies held by btQuaternionHingeConstraints back onto their joints:
+
+  (Q13) positions:  Newton on C(x) = 0 with the exact Jacobian J (btQuaternionHingeConstraint::computePositionRows):
+                    K = J M⁻¹ Jᵀ,  K λ = −C,  Δx = M⁻¹ Jᵀ λ  (a body turns by the world-frame rotation Δθ:
+                    q ← normalize(q + ½ Δθ ⊗ q)), until ‖C‖∞ ≤ positionTolerance (or the precision's rounding
+                    floor), the iteration cap, or no further progress;
+  (Q14) velocities: v ← v − M⁻¹ Jᵀ K⁻¹ J v with J at the projected positions (Cline & Pai, ICRA 2003).
+
+What it projects. Only btQuaternionHingeConstraints (getConstraintType() == QUATERNION_HINGE_CONSTRAINT_TYPE) that
+are enabled (a disabled or broken joint is skipped) and have at least one movable body. A movable body is dynamic and
+active: static and kinematic bodies (infinite mass) and sleeping bodies are never moved, and do not connect islands.
+The joints are grouped into islands (connected through shared movable bodies); each island is solved on its own.
+Rows: the joint's bilateral rows (3 linear + 2 quaternion, 2 when angular-only) and, for a joint with a limit, one
+row along the hinge axis while the multi-turn angle is past a stop: an inequality, projected only when violated
+(then held at the stop for the rest of the step), its velocity only while it still moves past the stop. For such a
+joint the stabilizer reads getMultiTurnAngle(), which keeps the joint tracking its angle (as its limit needs anyway).
+Drives (motor, servo, spring) and friction are never projected: their row is along the hinge axis, which the
+bilateral rows leave free, so the projection does not undo a drive's work.
+Other constraint types and contacts are not seen. A ragdoll lying on the ground can therefore be pushed into the
+ground, by at most the correction it receives (the position error the solver left, typically well below a
+millimetre); the contact solver pushes it out again in the next step.
+
+Closed loops and redundant joints (a four-bar linkage, two hinges on one axis) make K singular: it is regularized by
+regularization · (trace K / rows) on its diagonal, so the projection stays finite (never NaN) and converges to the
+least-squares correction. Far from the solution in a nearly singular pose (a taut chain whipping; light links pulled
+straight by a heavy load) a full Newton step can overshoot: a step that makes ‖C‖ worse is halved, then undone, so
+the projection never leaves a pose worse than it found it. When the mass-weighted step fails or barely gains, the
+position correction switches, for the rest of the step, to a "stiff" metric, M + M_ref with M_ref the island's
+heaviest mass and inertia: it no longer prefers swinging the light bodies a long way (cheap to first order, useless
+to second) and moves the heavy ones as readily. The velocity projection always uses M.
+
+How it solves. K is assembled in place from dense 6×6 blocks (a joint's rows, padded; one block per pair of joints on
+a common movable body). For an island without closed loops (chains, ragdolls, any open linkage, joints to the world
+included) the joints are numbered along the tree of bodies, leaves first, which is a perfect elimination order: a
+block LDLᵀ without fill, linear in the number of joints (Baraff, SIGGRAPH 1996). An island with a closed loop is
+factorized by Eigen's SimplicialLDLT (AMD ordering). The structure (islands, numbering, pattern, symbolic analysis)
+is built once and reused while the joints and their bodies stay the same; a step with an unchanged structure
+allocates nothing (the sparse path aside: Eigen's factorization allocates its permuted copy). A factorization is
+reused for later Newton steps and for the velocity projection while the bodies have moved little since it was made
+(a chain's K is ill-conditioned, so "little" is ~1e-4), and the velocities are projected right after the second
+factorization of a step: a typical step costs two factorizations, two or three evaluations of the rows and three
+solves.
+
+Pose and velocity hand-back. A moved body gets its centre-of-mass (world) transform and its interpolation transform
+set to the projected pose, and its world inverse inertia refreshed (updateInertiaTensor); a body whose velocity
+changes gets its interpolation velocities set too. The world synchronizes its motion state at the end of the step
+from that interpolation transform, as for any body, so rendering and the next step both see the projected pose.
+
+Eigen is a private dependency of this library: nothing here includes it.
+*/
+#ifndef BT_QUATERNION_HINGE_STABILIZER_H
+#define BT_QUATERNION_HINGE_STABILIZER_H
+
+#include "BulletDynamics/Dynamics/btActionInterface.h"
+#include "LinearMath/btScalar.h"
+
+#include <memory>
+
+class btCollisionWorld;
+class btDynamicsWorld;
+class btIDebugDraw;
+
+/// Which factorization solves an island's K.
+enum btQuaternionHingeStabilizerSolver
+{
+	/// Tree-ordered block LDLᵀ for islands without closed loops; the general sparse LDLᵀ for islands with loops.
+	BT_QHSTAB_SOLVER_AUTO = 0,
+	/// Always the general sparse LDLᵀ (Eigen SimplicialLDLT, AMD ordering): the reference, and slower.
+	BT_QHSTAB_SOLVER_SPARSE_LDLT = 1
+};
+
+/// The stabilizer's configuration: a plain struct with defaults. setSettings checks every field.
+struct btQuaternionHingeStabilizerSettings
+{
+	/// Newton stops once every row's |C| ≤ positionTolerance. Units: metres for the linear rows (pivot separation),
+	/// radians for the quaternion rows (2 q_v·x̂, the misalignment angle for small errors) and the limit row. > 0.
+	/// A row is also converged at its rounding floor, 4ε·max(1 m, |x|) for a linear row whose bodies are at
+	/// coordinate x, 4ε rad for an angular row (ε = SIMD_EPSILON): float Bullet resolves a position 10 m from the
+	/// origin only to ~1e-6 m, so a tighter tolerance there would just cost iterations.
+	/// Default 1e-6 with float Bullet, 1e-10 with double Bullet (BT_USE_DOUBLE_PRECISION).
+#ifdef BT_USE_DOUBLE_PRECISION
+	btScalar positionTolerance = btScalar(1e-10);
+#else
+	btScalar positionTolerance = btScalar(1e-6);
+#endif
+	/// Most Newton iterations per island and step (≥ 1). After a velocity-projected step the error is small and one
+	/// or two iterations suffice; a large error (a scene set up off its joints, a 1:1000 mass ratio, a long taut
+	/// chain) takes a few more.
+	int maxIterations = 10;
+	/// Within a few times the rounding floor of the precision, Newton stops when an iteration reduces ‖C‖∞ by less
+	/// than this factor (more iterations cannot help there). (0, 1]; 1 turns the test off. Farther away it goes on
+	/// while ‖C‖∞ decreases (a step that would increase it is halved, then undone).
+	btScalar minimumProgress = btScalar(0.5);
+	/// The two halves of the projection (Q13, Q14); each can be turned off.
+	bool projectPositions = true;
+	bool projectVelocities = true;
+	/// Project violated limits (the limit row, as an inequality). Off: only the bilateral rows.
+	bool projectLimits = true;
+	/// Relative diagonal regularization ε of K: K + ε·(trace K / rows)·I. Keeps redundant and closed-loop islands
+	/// finite. [0, 1e-2]; 0 only when no island is ever redundant.
+	btScalar regularization = btScalar(1e-9);
+	btQuaternionHingeStabilizerSolver solver = BT_QHSTAB_SOLVER_AUTO;
+};
+
+/// What the last call did (one internal step: updateAction or stabilize). Residuals are ‖C‖∞ over every projected
+/// row of every island, in the units of positionTolerance.
+struct btQuaternionHingeStabilizerStats
+{
+	int islands = 0;              ///< islands projected
+	int sparseIslands = 0;        ///< of which solved by the general sparse LDLᵀ (closed loops, or forced)
+	int joints = 0;               ///< joints projected
+	int bodies = 0;               ///< movable bodies in those islands
+	int rows = 0;                 ///< rows of K (bilateral rows plus one slot per joint with a limit)
+	int iterations = 0;           ///< Newton iterations, the most any island used
+	int totalIterations = 0;      ///< Newton iterations summed over islands
+	int factorizations = 0;       ///< numeric factorizations of K (usually 2 per island: see "How it solves")
+	int solves = 0;               ///< solves with a factorized K (Newton iterations plus velocity solves)
+	int backtracks = 0;           ///< Newton steps halved because the full step made ‖C‖ worse
+	int metricSwitches = 0;       ///< islands whose position correction switched to the stiff metric (see above)
+	int activeLimitRows = 0;      ///< limit rows projected (violated at some iteration)
+	btScalar residualBefore = 0;  ///< ‖C‖∞ before the position projection
+	btScalar residualAfter = 0;   ///< ‖C‖∞ after it (at the final positions)
+	btScalar velocityResidualBefore = 0;  ///< ‖J v‖∞ (m/s, rad/s) before the velocity projection
+	btScalar velocityResidualAfter = 0;   ///< ‖J v‖∞ after it, at the final positions (each row's |J v| is then below
+										  ///< its position threshold over the time step, or the rounding floor)
+	bool structureRebuilt = false;  ///< the islands were (re)built this step: joints, bodies or their state changed
+	int numericalIssues = 0;        ///< pivots that were not positive and were treated as inactive rows (none expected)
+	double timeMicroseconds = 0;    ///< wall time of the call
+};
+
+ATTRIBUTE_ALIGNED16(class)
+btQuaternionHingeStabilizer : public btActionInterface
+{
+public:
+	BT_DECLARE_ALIGNED_ALLOCATOR();
+
+	/// Throws std::invalid_argument (naming the field) when a setting is out of range.
+	explicit btQuaternionHingeStabilizer(const btQuaternionHingeStabilizerSettings& settings =
+											 btQuaternionHingeStabilizerSettings());
+	virtual ~btQuaternionHingeStabilizer();
+	btQuaternionHingeStabilizer(const btQuaternionHingeStabilizer&) = delete;
+	btQuaternionHingeStabilizer& operator=(const btQuaternionHingeStabilizer&) = delete;
+
+	/// btActionInterface: called by the world after each internal step's integration. Does nothing unless
+	/// collisionWorld is a btDynamicsWorld (only those hold constraints).
+	virtual void updateAction(btCollisionWorld * collisionWorld, btScalar deltaTimeStep);
+	/// btActionInterface: nothing to draw.
+	virtual void debugDraw(btIDebugDraw * debugDrawer);
+
+	/// Projects `world` now, as updateAction does; e.g. once after placing bodies by hand, before the first step.
+	/// timeStep (s, > 0): the step the velocities will next be integrated over; the velocity projection aims at
+	/// |J v| ≤ (a row's position threshold) / timeStep per row. Throws std::invalid_argument on a null world or a
+	/// bad timeStep.
+	const btQuaternionHingeStabilizerStats& stabilize(btDynamicsWorld * world, btScalar timeStep = btScalar(1) / 60);
+
+	/// Throws std::invalid_argument (naming the field) when a setting is out of range; nothing is changed then.
+	void setSettings(const btQuaternionHingeStabilizerSettings& settings);
+	const btQuaternionHingeStabilizerSettings& getSettings() const { return m_settings; }
+
+	/// Statistics of the last updateAction or stabilize call.
+	const btQuaternionHingeStabilizerStats& getLastStats() const { return m_stats; }
+
+	/// Forgets the cached islands: they are rebuilt at the next call. Never needed for correctness (the structure
+	/// is compared with the world's every step); frees the memory of a world the stabilizer no longer serves.
+	void invalidateStructure();
+
+private:
+	struct Impl;
+	btQuaternionHingeStabilizerSettings m_settings;
+	btQuaternionHingeStabilizerStats m_stats;
+	std::unique_ptr<Impl> m_impl;
+};
+
+#endif  // BT_QUATERNION_HINGE_STABILIZER_H

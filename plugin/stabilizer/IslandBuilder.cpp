@@ -1,0 +1,255 @@
+// Discovery, islands and the tree numbering of the stabilizer (see StabilizerIsland.h).
+#include "StabilizerIsland.h"
+
+#include "quathinge/btQuaternionHingeConstraint.h"
+
+#include "BulletDynamics/Dynamics/btDynamicsWorld.h"
+#include "BulletDynamics/Dynamics/btRigidBody.h"
+
+#include <algorithm>
+#include <unordered_map>
+#include <utility>
+
+namespace quathinge
+{
+namespace stabilizer
+{
+bool isMovable(const btRigidBody& body)
+{
+	return !body.isStaticOrKinematicObject() && body.isActive() &&
+		   (body.getInvMass() > 0 || !body.getInvInertiaDiagLocal().isZero());
+}
+
+void scanWorld(btDynamicsWorld& world, bool projectLimits, std::vector<SignatureEntry>& out)
+{
+	out.clear();
+	const int n = world.getNumConstraints();
+	for (int i = 0; i < n; ++i)
+	{
+		btTypedConstraint* c = world.getConstraint(i);
+		if (c->getConstraintType() != QUATERNION_HINGE_CONSTRAINT_TYPE || !c->isEnabled()) continue;
+		btQuaternionHingeConstraint* hinge = static_cast<btQuaternionHingeConstraint*>(c);
+		SignatureEntry e;
+		e.joint = hinge;
+		e.body[0] = &hinge->getRigidBodyA();
+		e.body[1] = &hinge->getRigidBodyB();
+		e.flags = 0;
+		if (isMovable(*e.body[0])) e.flags |= SignatureEntry::kMovableA;
+		if (isMovable(*e.body[1])) e.flags |= SignatureEntry::kMovableB;
+		if (!(e.flags & (SignatureEntry::kMovableA | SignatureEntry::kMovableB))) continue;
+		if (hinge->getAngularOnly()) e.flags |= SignatureEntry::kAngularOnly;
+		if (projectLimits && hinge->hasLimit()) e.flags |= SignatureEntry::kLimitSlot;
+		out.push_back(e);
+	}
+}
+
+namespace
+{
+int findRoot(std::vector<int>& parent, int x)
+{
+	while (parent[x] != x)
+	{
+		parent[x] = parent[parent[x]];
+		x = parent[x];
+	}
+	return x;
+}
+
+// Joint numbering along a depth-first tree of the bodies, leaves first (StabilizerIsland.h). joints: island joints
+// with island body indices (−1 fixed). Returns the joints' order.
+std::vector<int> treeOrder(int numBodies, const std::vector<JointSlot>& joints)
+{
+	std::vector<std::vector<int>> incident(numBodies);
+	for (int j = 0; j < int(joints.size()); ++j)
+		for (int s = 0; s < 2; ++s)
+			if (joints[j].body[s] >= 0) incident[joints[j].body[s]].push_back(j);
+
+	auto other = [&](int j, int b) { return joints[j].body[0] == b ? joints[j].body[1] : joints[j].body[0]; };
+	std::vector<int> order;
+	order.reserve(joints.size());
+	std::vector<char> emitted(joints.size(), 0);
+	std::vector<char> visited(numBodies, 0);
+	std::vector<int> parentBody(numBodies, -1);
+	struct Frame
+	{
+		int body;
+		size_t next;
+	};
+	std::vector<Frame> stack;
+	for (int root = 0; root < numBodies; ++root)
+	{
+		if (visited[root]) continue;
+		visited[root] = 1;
+		stack.push_back(Frame{root, 0});
+		while (!stack.empty())
+		{
+			Frame& f = stack.back();
+			const int b = f.body;
+			if (f.next < incident[b].size())
+			{
+				const int o = other(incident[b][f.next++], b);
+				if (o >= 0 && !visited[o])
+				{
+					visited[o] = 1;
+					parentBody[o] = b;
+					stack.push_back(Frame{o, 0});
+				}
+				continue;
+			}
+			// Finished b: its joints to fixed bodies first, then to other non-parent bodies, then to its parent.
+			for (int pass = 0; pass < 3; ++pass)
+				for (int j : incident[b])
+				{
+					if (emitted[j]) continue;
+					const int o = other(j, b);
+					const int kind = o < 0 ? 0 : (o != parentBody[b] ? 1 : 2);
+					if (kind != pass) continue;
+					emitted[j] = 1;
+					order.push_back(j);
+				}
+			stack.pop_back();
+		}
+	}
+	return order;
+}
+
+void buildPattern(Island& island)
+{
+	const int n = int(island.joints.size());
+	BlockPattern& p = island.pattern;
+	p.size.resize(n);
+	p.offset.resize(n);
+	p.rows = 0;
+	for (int j = 0; j < n; ++j)
+	{
+		p.size[j] = island.joints[j].rows;
+		p.offset[j] = p.rows;
+		p.rows += p.size[j];
+	}
+	// Pairs of joints on a common movable body: (i > j, body side of i, of j).
+	std::vector<std::vector<std::pair<int, int>>> incident(island.bodies.size());  // (joint, side)
+	for (int j = 0; j < n; ++j)
+		for (int s = 0; s < 2; ++s)
+			if (island.joints[j].body[s] >= 0) incident[island.joints[j].body[s]].push_back({j, s});
+	std::vector<Coupling> couplings;
+	for (const auto& list : incident)
+		for (size_t a = 0; a < list.size(); ++a)
+			for (size_t b = 0; b < list.size(); ++b)
+				if (list[a].first > list[b].first)
+					couplings.push_back(Coupling{-1, list[a].first, list[a].second, list[b].first, list[b].second});
+	// Lower blocks per column, rows ascending, each once.
+	std::vector<std::vector<int>> columns(n);
+	for (const Coupling& c : couplings) columns[c.j].push_back(c.i);
+	p.colStart.assign(n + 1, 0);
+	p.rowOf.clear();
+	for (int k = 0; k < n; ++k)
+	{
+		std::vector<int>& rows = columns[k];
+		std::sort(rows.begin(), rows.end());
+		rows.erase(std::unique(rows.begin(), rows.end()), rows.end());
+		p.colStart[k] = int(p.rowOf.size());
+		p.rowOf.insert(p.rowOf.end(), rows.begin(), rows.end());
+	}
+	p.colStart[n] = int(p.rowOf.size());
+	for (Coupling& c : couplings) c.block = p.find(c.i, c.j);
+	// Assemble in memory order of the target blocks.
+	std::sort(couplings.begin(), couplings.end(),
+			  [](const Coupling& x, const Coupling& y) { return x.block < y.block; });
+	island.couplings.swap(couplings);
+}
+}  // namespace
+
+void buildIslands(const std::vector<SignatureEntry>& scan, bool forceSparse,
+				  std::vector<std::unique_ptr<Island>>& islands)
+{
+	islands.clear();
+	// Movable bodies, numbered in scan order.
+	std::unordered_map<const btRigidBody*, int> bodyIndex;
+	std::vector<btRigidBody*> bodies;
+	const unsigned movableFlag[2] = {SignatureEntry::kMovableA, SignatureEntry::kMovableB};
+	for (const SignatureEntry& e : scan)
+		for (int s = 0; s < 2; ++s)
+			if ((e.flags & movableFlag[s]) && bodyIndex.emplace(e.body[s], int(bodies.size())).second)
+				bodies.push_back(e.body[s]);
+	auto indexOf = [&](const SignatureEntry& e, int s) {
+		return (e.flags & movableFlag[s]) ? bodyIndex[e.body[s]] : -1;
+	};
+
+	std::vector<int> parent(bodies.size());
+	for (size_t i = 0; i < parent.size(); ++i) parent[i] = int(i);
+	for (const SignatureEntry& e : scan)
+	{
+		const int a = indexOf(e, 0), b = indexOf(e, 1);
+		if (a >= 0 && b >= 0) parent[findRoot(parent, a)] = findRoot(parent, b);
+	}
+
+	// Island per root; bodies and joints in scan order.
+	std::unordered_map<int, int> islandOf;
+	std::vector<int> localBody(bodies.size(), -1);
+	for (size_t i = 0; i < bodies.size(); ++i)
+	{
+		const int root = findRoot(parent, int(i));
+		auto found = islandOf.emplace(root, int(islands.size()));
+		if (found.second) islands.emplace_back(new Island);
+		Island& island = *islands[found.first->second];
+		localBody[i] = int(island.bodies.size());
+		IslandBody body;
+		body.rigid = bodies[i];
+		body.invMass.setZero();
+		body.invInertia.setZero();
+		body.delta.setZero();
+		body.saved.setIdentity();
+		island.bodies.push_back(body);
+	}
+	for (const SignatureEntry& e : scan)
+	{
+		const int a = indexOf(e, 0), b = indexOf(e, 1);
+		Island& island = *islands[islandOf[findRoot(parent, a >= 0 ? a : b)]];
+		JointSlot slot;
+		slot.joint = e.joint;
+		slot.rigid[0] = e.body[0];
+		slot.rigid[1] = e.body[1];
+		slot.body[0] = a >= 0 ? localBody[a] : -1;
+		slot.body[1] = b >= 0 ? localBody[b] : -1;
+		slot.bilateralRows = (e.flags & SignatureEntry::kAngularOnly) ? 2 : 5;
+		slot.limitSlot = (e.flags & SignatureEntry::kLimitSlot) != 0;
+		slot.rows = slot.bilateralRows + (slot.limitSlot ? 1 : 0);
+		slot.angleReference = slot.angle = 0;
+		slot.limitActive = slot.limitActiveInFactor = false;
+		slot.limitTouched = 0;
+		slot.linearThreshold = slot.angularThreshold = 0;
+		slot.limitGradient.setZero();
+		slot.jacobian.setZero();
+		slot.c.setZero();
+		slot.jv.setZero();
+		for (int side = 0; side < 2; ++side)
+		{
+			slot.linearSign[side] = (e.flags & SignatureEntry::kAngularOnly) ? 0 : (side == 0 ? -1 : 1);
+			slot.h[side].setZero();
+		}
+		island.joints.push_back(slot);
+	}
+
+	for (auto& islandPtr : islands)
+	{
+		Island& island = *islandPtr;
+		const std::vector<int> order = treeOrder(int(island.bodies.size()), island.joints);
+		std::vector<JointSlot> ordered;
+		ordered.reserve(order.size());
+		for (int j : order) ordered.push_back(island.joints[j]);
+		island.joints.swap(ordered);
+		buildPattern(island);
+		island.k.resize(island.pattern);
+		island.lambda.assign(island.joints.size(), BlockVector::Zero());
+		island.treeOrdered = island.block.analyze(island.pattern);
+		island.useSparse = forceSparse || !island.treeOrdered;
+		if (island.useSparse)
+		{
+			island.sparse.reset(new SparseLDLT);
+			island.sparse->analyze(island.pattern);
+		}
+	}
+}
+
+}  // namespace stabilizer
+}  // namespace quathinge

@@ -1,0 +1,48 @@
+// The general sparse LDLᵀ of K (shared/MATH.md Q13, Q14): Eigen's SimplicialLDLT with AMD ordering, for islands with
+// closed loops (where no joint numbering avoids fill) and as the reference for the tree-ordered BlockLDLT.
+//
+// The scalar pattern is every entry of each joint's own rows in every block of the BlockPattern (structural zeros
+// included; no padding), lower triangle, compressed by columns. It is analysed once (analyzePattern) and only
+// factorize() runs per step: reusing a symbolic analysis on a matrix whose pattern changed corrupted memory in the
+// prototype (MATH.md, "Pitfall"), so the pattern here is fixed by construction and rebuilt only with the island.
+// Eigen's sparse types stay in SparseLDLT.cpp; this header declares an opaque holder.
+#ifndef QUATHINGE_STABILIZER_SPARSE_LDLT_H
+#define QUATHINGE_STABILIZER_SPARSE_LDLT_H
+
+#include "BlockMatrix.h"
+
+#include <memory>
+#include <vector>
+
+namespace quathinge
+{
+namespace stabilizer
+{
+class SparseLDLT
+{
+public:
+	SparseLDLT();
+	~SparseLDLT();
+	SparseLDLT(const SparseLDLT&) = delete;
+	SparseLDLT& operator=(const SparseLDLT&) = delete;
+
+	/// Builds the scalar pattern of `pattern` and its symbolic analysis.
+	void analyze(const BlockPattern& pattern);
+	/// Copies the values of k (lower triangle) into the fixed pattern and factorizes. False on a numerical failure
+	/// (a zero pivot: the caller then skips the island's correction for this step).
+	bool factorize(const BlockMatrix& k);
+	/// Solves K x = b in place; b holds kBlockRows entries per block row (padding rows are left alone).
+	void solve(BlockVector* b);
+
+private:
+	struct Eigen3;
+	std::unique_ptr<Eigen3> m_eigen;
+	const BlockPattern* m_pattern = nullptr;
+	std::vector<int> m_diagStart;   // value index of entry (offset_k + c, offset_k + c), per block row k and column c
+	std::vector<int> m_lowerStart;  // value index of the first row of lower block s in each of its columns
+};
+
+}  // namespace stabilizer
+}  // namespace quathinge
+
+#endif

@@ -1,0 +1,164 @@
+// An island of quaternion hinges, as the stabilizer holds it between steps (shared/MATH.md Q13, Q14).
+//
+// Discovery: every enabled btQuaternionHingeConstraint of the world with at least one movable body (dynamic and
+// active; static, kinematic and sleeping bodies are fixed: infinite mass, never moved). The scan is summarized as a
+// signature (joint, bodies, which are movable, row counts); while it equals the cached one the islands are reused
+// as they are, with their block pattern, joint numbering and symbolic analysis.
+// Islands: joints connected through shared movable bodies (union–find); fixed bodies do not connect.
+// Numbering: along a depth-first tree of the island's bodies, leaves first — a body's joints to fixed bodies and to
+// non-parent bodies, then its joints to its parent, after all of its subtree. For an island without closed loops
+// this is a perfect elimination order of K (the later neighbours of each joint all share one body), so BlockLDLT
+// factorizes it without fill; with loops BlockLDLT::analyze refuses and the island uses SparseLDLT.
+// Rows of joint j: its bilateral rows (5, or 2 when angular-only) at [0, bilateral), then, for a joint with a limit
+// (and projectLimits), one limit slot that is a structural zero row while the limit is not violated.
+#ifndef QUATHINGE_STABILIZER_ISLAND_H
+#define QUATHINGE_STABILIZER_ISLAND_H
+
+#include "BlockLDLT.h"
+#include "BlockMatrix.h"
+#include "SparseLDLT.h"
+
+#include "LinearMath/btScalar.h"
+#include "LinearMath/btTransform.h"
+
+#include <Eigen/Core>
+
+#include <memory>
+#include <vector>
+
+class btDynamicsWorld;
+class btRigidBody;
+class btTypedConstraint;
+class btQuaternionHingeConstraint;
+
+namespace quathinge
+{
+namespace stabilizer
+{
+/// One scanned joint: what decides the islands' structure.
+struct SignatureEntry
+{
+	enum Flags
+	{
+		kMovableA = 1,
+		kMovableB = 2,
+		kAngularOnly = 4,
+		kLimitSlot = 8
+	};
+	btQuaternionHingeConstraint* joint;
+	btRigidBody* body[2];
+	unsigned flags;
+	bool operator==(const SignatureEntry& o) const
+	{
+		return joint == o.joint && body[0] == o.body[0] && body[1] == o.body[1] && flags == o.flags;
+	}
+};
+
+/// Dynamic, active, with some inverse mass or inertia: the stabilizer may move it.
+bool isMovable(const btRigidBody& body);
+
+/// Appends the world's enabled quaternion hinges with a movable body, in constraint order, to out (cleared first).
+void scanWorld(btDynamicsWorld& world, bool projectLimits, std::vector<SignatureEntry>& out);
+
+struct IslandBody
+{
+	btRigidBody* rigid;
+	Eigen::Vector3d invMass;     // inverse mass times the linear factor, per world axis
+	Eigen::Matrix3d invInertia;  // S I⁻¹_world S, S = diag(angular factor)
+	Eigen::Matrix<double, 6, 1> delta;  // accumulated M⁻¹ Jᵀ λ: linear, then angular (world)
+	btTransform saved;                  // the transform before the last Newton step (for backtracking)
+};
+
+typedef Eigen::Matrix<double, kBlockRows, 12> JointJacobian;
+
+struct JointSlot
+{
+	btQuaternionHingeConstraint* joint;
+	btRigidBody* rigid[2];  // A, B
+	int body[2];            // island body index of A, B; −1 for a fixed body
+	int bilateralRows;      // 5, or 2 when angular-only
+	bool limitSlot;         // row bilateralRows is the limit row
+	int rows;               // bilateralRows + limitSlot
+
+	// Per step.
+	btScalar angleReference;   // multi-turn angle at the step's start (getHingeAngle's sign)
+	btScalar angle;            // multi-turn angle at the last evaluation
+	bool limitActive;          // the limit row is in the system (else a padding row)
+	bool limitActiveInFactor;  // … as it was when K was last factorized
+	int limitTouched;          // +1 the lower stop, −1 the upper stop was violated this step, 0 neither
+	btScalar linearThreshold;  // converged |C| of the linear rows (m): max(tolerance, their rounding floor)
+	btScalar angularThreshold; // … of the angular and limit rows (rad)
+	Eigen::Matrix<double, 1, 12> limitGradient;  // ∂α/∂(v_A, ω_A, v_B, ω_B) at the last evaluation
+	JointJacobian jacobian;    // rows beyond the joint's own and an inactive limit row are zero
+	BlockVector c;             // C at the last position evaluation; zero on padding rows
+	BlockVector jv;            // J v at the last velocity evaluation; zero on padding rows
+	// M_b⁻¹ J_bᵀ for side s (A, B; unused for a fixed side), in the structure every row has (MATH.md, "Bullet's
+	// conventions", Q7): the linear part of J_b is linearSign[s]·[I₃; 0] (the point rows, C = p_B − p_A, so −I for A
+	// and +I for B; 0 for an angular-only joint), hence M_b⁻¹ J_bᵀ = [linearSign·m_b⁻¹ on the first 3 rows; h].
+	double linearSign[2];
+	Eigen::Matrix<double, 3, kBlockRows> h[2];  // I_b⁻¹ A_bᵀ, A_b the angular part of J_b (6×3)
+};
+
+/// Joints i > j sharing movable body b: K_ij += J_i,b M_b⁻¹ J_j,bᵀ.
+struct Coupling
+{
+	int block;  // lower block (i, j)
+	int i, sideI;
+	int j, sideJ;
+};
+
+struct Island
+{
+	std::vector<IslandBody> bodies;
+	std::vector<JointSlot> joints;  // in elimination order
+	BlockPattern pattern;
+	std::vector<Coupling> couplings;
+	BlockMatrix k;
+	bool treeOrdered = false;  // BlockLDLT accepted the numbering (no fill)
+	bool useSparse = false;    // solved by SparseLDLT
+	BlockLDLT block;
+	std::unique_ptr<SparseLDLT> sparse;
+	std::vector<BlockVector> lambda;  // right-hand side, then λ, per joint
+	// The position correction's metric for the rest of a step: M, or M + M_ref (IslandProjection.cpp, "stiff").
+	bool stiffMetric = false;
+	double referenceMass = 0;     // kg: the heaviest body's mass
+	double referenceInertia = 0;  // kg·m²: the largest principal inertia of any body
+};
+
+/// Builds the islands of a scan. forceSparse: every island uses SparseLDLT.
+void buildIslands(const std::vector<SignatureEntry>& scan, bool forceSparse,
+				  std::vector<std::unique_ptr<Island>>& islands);
+
+/// Step settings and counters shared by the projection (a subset of btQuaternionHingeStabilizerSettings/Stats).
+struct ProjectionSettings
+{
+	btScalar tolerance;
+	btScalar timeStep;  // the step the velocities are integrated over (s): velocity tolerance = tolerance / timeStep
+	int maxIterations;
+	btScalar minimumProgress;
+	bool positions;
+	bool velocities;
+	double regularization;
+};
+struct ProjectionResult
+{
+	int iterations = 0;
+	int factorizations = 0;
+	int solves = 0;
+	int backtracks = 0;
+	int metricSwitches = 0;
+	int activeLimitRows = 0;
+	int numericalIssues = 0;
+	btScalar residualBefore = 0;
+	btScalar residualAfter = 0;
+	btScalar velocityResidualBefore = 0;
+	btScalar velocityResidualAfter = 0;
+};
+
+/// Q13 then Q14 on one island.
+ProjectionResult projectIsland(Island& island, const ProjectionSettings& settings);
+
+}  // namespace stabilizer
+}  // namespace quathinge
+
+#endif

@@ -1,0 +1,136 @@
+// btQuaternionHingeStabilizer: the btActionInterface around the island projection (public header for the design;
+// StabilizerIsland.h for discovery and numbering; IslandProjection.cpp for Q13 and Q14).
+#include "quathinge/btQuaternionHingeStabilizer.h"
+
+#include "StabilizerIsland.h"
+
+#include "BulletDynamics/Dynamics/btDynamicsWorld.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <sstream>
+#include <stdexcept>
+
+using namespace quathinge::stabilizer;
+
+struct btQuaternionHingeStabilizer::Impl
+{
+	std::vector<SignatureEntry> signature;  // the scan the islands were built from
+	std::vector<SignatureEntry> scan;       // this step's scan (kept to avoid allocating)
+	std::vector<std::unique_ptr<Island>> islands;
+	bool built = false;
+};
+
+namespace
+{
+const char* const kClass = "btQuaternionHingeStabilizer";
+
+[[noreturn]] void fail(const char* fn, const char* field, const char* what, double value)
+{
+	std::ostringstream message;
+	message << kClass << "::" << fn << ": " << field << " (" << value << ") " << what;
+	throw std::invalid_argument(message.str());
+}
+
+void checkSettings(const char* fn, const btQuaternionHingeStabilizerSettings& s)
+{
+	if (!(s.positionTolerance > 0) || !std::isfinite(s.positionTolerance))
+		fail(fn, "settings.positionTolerance", "must be finite and > 0", s.positionTolerance);
+	if (s.maxIterations < 1) fail(fn, "settings.maxIterations", "must be >= 1", s.maxIterations);
+	if (!(s.minimumProgress > 0 && s.minimumProgress <= 1))
+		fail(fn, "settings.minimumProgress", "must be in (0, 1]", s.minimumProgress);
+	// 1e-2: beyond it the regularization visibly slows Newton on well-posed islands (a 1% relative perturbation).
+	if (!(s.regularization >= 0 && s.regularization <= btScalar(1e-2)))
+		fail(fn, "settings.regularization", "must be in [0, 1e-2]", s.regularization);
+	if (s.solver != BT_QHSTAB_SOLVER_AUTO && s.solver != BT_QHSTAB_SOLVER_SPARSE_LDLT)
+		fail(fn, "settings.solver", "is not a btQuaternionHingeStabilizerSolver", double(s.solver));
+}
+}  // namespace
+
+btQuaternionHingeStabilizer::btQuaternionHingeStabilizer(const btQuaternionHingeStabilizerSettings& settings)
+	: m_impl(new Impl)
+{
+	checkSettings("btQuaternionHingeStabilizer", settings);
+	m_settings = settings;
+}
+
+btQuaternionHingeStabilizer::~btQuaternionHingeStabilizer() = default;
+
+void btQuaternionHingeStabilizer::setSettings(const btQuaternionHingeStabilizerSettings& settings)
+{
+	checkSettings("setSettings", settings);
+	// projectLimits and solver change the islands' structure.
+	if (settings.projectLimits != m_settings.projectLimits || settings.solver != m_settings.solver)
+		invalidateStructure();
+	m_settings = settings;
+}
+
+void btQuaternionHingeStabilizer::invalidateStructure()
+{
+	m_impl->islands.clear();
+	m_impl->signature.clear();
+	m_impl->built = false;
+}
+
+void btQuaternionHingeStabilizer::updateAction(btCollisionWorld* collisionWorld, btScalar deltaTimeStep)
+{
+	btDynamicsWorld* world = dynamic_cast<btDynamicsWorld*>(collisionWorld);
+	if (world && deltaTimeStep > 0) stabilize(world, deltaTimeStep);
+}
+
+void btQuaternionHingeStabilizer::debugDraw(btIDebugDraw* /*debugDrawer*/) {}
+
+const btQuaternionHingeStabilizerStats& btQuaternionHingeStabilizer::stabilize(btDynamicsWorld* world,
+																				btScalar timeStep)
+{
+	const auto start = std::chrono::steady_clock::now();
+	if (!world) fail("stabilize", "world", "must not be null", 0);
+	if (!(timeStep > 0) || !std::isfinite(timeStep)) fail("stabilize", "timeStep", "must be finite and > 0", timeStep);
+	m_stats = btQuaternionHingeStabilizerStats();
+
+	Impl& impl = *m_impl;
+	scanWorld(*world, m_settings.projectLimits, impl.scan);
+	if (!impl.built || impl.scan.size() != impl.signature.size() ||
+		!std::equal(impl.scan.begin(), impl.scan.end(), impl.signature.begin()))
+	{
+		impl.signature.swap(impl.scan);
+		buildIslands(impl.signature, m_settings.solver == BT_QHSTAB_SOLVER_SPARSE_LDLT, impl.islands);
+		impl.built = true;
+		m_stats.structureRebuilt = true;
+	}
+
+	ProjectionSettings settings;
+	settings.tolerance = m_settings.positionTolerance;
+	settings.timeStep = timeStep;
+	settings.maxIterations = m_settings.maxIterations;
+	settings.minimumProgress = m_settings.minimumProgress;
+	settings.positions = m_settings.projectPositions;
+	settings.velocities = m_settings.projectVelocities;
+	settings.regularization = m_settings.regularization;
+	for (const auto& islandPtr : impl.islands)
+	{
+		Island& island = *islandPtr;
+		const ProjectionResult r = projectIsland(island, settings);
+		++m_stats.islands;
+		if (island.useSparse) ++m_stats.sparseIslands;
+		m_stats.joints += int(island.joints.size());
+		m_stats.bodies += int(island.bodies.size());
+		m_stats.rows += island.pattern.rows;
+		m_stats.iterations = std::max(m_stats.iterations, r.iterations);
+		m_stats.totalIterations += r.iterations;
+		m_stats.factorizations += r.factorizations;
+		m_stats.solves += r.solves;
+		m_stats.backtracks += r.backtracks;
+		m_stats.metricSwitches += r.metricSwitches;
+		m_stats.activeLimitRows += r.activeLimitRows;
+		m_stats.numericalIssues += r.numericalIssues;
+		m_stats.residualBefore = std::max(m_stats.residualBefore, r.residualBefore);
+		m_stats.residualAfter = std::max(m_stats.residualAfter, r.residualAfter);
+		m_stats.velocityResidualBefore = std::max(m_stats.velocityResidualBefore, r.velocityResidualBefore);
+		m_stats.velocityResidualAfter = std::max(m_stats.velocityResidualAfter, r.velocityResidualAfter);
+	}
+	m_stats.timeMicroseconds =
+		std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - start).count();
+	return m_stats;
+}
