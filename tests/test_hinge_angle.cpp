@@ -135,3 +135,21 @@ TEST(HingeAngle, SetMultiTurnAngleAcceptsOnlyWholeTurns)
 	EXPECT_THROW(joint.setMultiTurnAngle(raw + 1), std::invalid_argument);
 	EXPECT_NEAR(joint.getMultiTurnAngle(), raw + 4 * SIMD_PI, 1e-4);  // unchanged after the refusal
 }
+
+TEST(HingeAngle, ReadingFramesThroughANonConstJointKeepsTheTurnCount)
+{
+	// getAFrame() on a non-const joint hands out a reference (as stock); only a real edit restarts the turn count.
+	qh_test::World world(qh_test::SolverKind::SequentialImpulse, btVector3(0, 0, 0));
+	btRigidBody* base = world.addBox(0, btVector3(btScalar(0.1), btScalar(0.1), btScalar(0.1)), btTransform::getIdentity());
+	btRigidBody* wheel = world.addBox(1, btVector3(btScalar(0.5), btScalar(0.5), btScalar(0.1)), btTransform::getIdentity());
+	auto* hinge = world.add(new btQuaternionHingeConstraint(*base, *wheel, btTransform::getIdentity(), btTransform::getIdentity(), true));
+	hinge->enableAngularMotor(true, 6, 1000);
+	hinge->getMultiTurnAngle();
+	for (int i = 0; i < 120; ++i)
+	{
+		world.step();
+		const btTransform frame = hinge->getAFrame();  // non-const overload, read only
+		(void)frame;
+	}
+	EXPECT_NEAR(hinge->getMultiTurnAngle(), 12.0, 0.05);  // 2 s at 6 rad/s, not wrapped
+}

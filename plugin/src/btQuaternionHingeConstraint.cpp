@@ -212,6 +212,8 @@ btQuaternionHingeConstraint::Pose btQuaternionHingeConstraint::poseAt(const btTr
 void btQuaternionHingeConstraint::initFromSettings()
 {
 	m_poseCached = false;
+	m_checkedFrameA = m_settings.frameInA;
+	m_checkedFrameB = m_settings.frameInB;
 	m_multiTurnAngle = 0;
 	m_multiTurnValid = false;
 	m_trackAlways = false;
@@ -242,11 +244,16 @@ void btQuaternionHingeConstraint::validateFramesIfEdited()
 {
 	if (!m_framesMayHaveChanged) return;
 	m_framesMayHaveChanged = false;
+	// A non-const reference was handed out; most callers only read through it (e.g. a non-const joint pointer).
+	if (m_settings.frameInA == m_checkedFrameA && m_settings.frameInB == m_checkedFrameB) return;
 	if (!check::isRigidFrame(m_settings.frameInA) || !check::isRigidFrame(m_settings.frameInB))
 	{
 		m_fault = BT_QHINGE_FAULT_FRAME_EDITED_INVALID;
 		setEnabled(false);
+		return;
 	}
+	m_checkedFrameA = m_settings.frameInA;
+	m_checkedFrameB = m_settings.frameInB;
 	m_multiTurnValid = false;  // the zero angle may have moved
 }
 
@@ -257,6 +264,8 @@ void btQuaternionHingeConstraint::setFrames(const btTransform& frameA, const btT
 	check::rigidFrame(fn, "frameB", frameB);
 	m_settings.frameInA = frameA;
 	m_settings.frameInB = frameB;
+	m_checkedFrameA = frameA;
+	m_checkedFrameB = frameB;
 	m_multiTurnValid = false;
 }
 
@@ -274,6 +283,8 @@ void btQuaternionHingeConstraint::setAxis(btVector3& axisInA)
 	// B's frame: A's joint frame as it is now in world coordinates, expressed in B.
 	m_settings.frameInB.setOrigin(transB.inverse()(transA(pivotInA)));
 	m_settings.frameInB.setBasis(transB.getBasis().transposeTimes(transA.getBasis() * basisA));
+	m_checkedFrameA = m_settings.frameInA;
+	m_checkedFrameB = m_settings.frameInB;
 	m_multiTurnValid = false;
 }
 

@@ -298,6 +298,8 @@ private:
 	bool m_multiTurnValid;         // m_multiTurnAngle tracks the pose
 	bool m_trackAlways;            // the user asked for the multi-turn angle once
 	bool m_framesMayHaveChanged;   // a non-const frame reference was handed out
+	btTransform m_checkedFrameA;   // the frames as last validated: an unchanged frame needs no check
+	btTransform m_checkedFrameB;
 	int m_limitSign;               // +1 lower stop row, −1 upper stop row, 0 none (as stock's getLimitSign)
 	bool m_limitSpeculative;       // the limit row is on but the stop is not yet reached
 	btScalar m_limitReach;         // |α̇|·h at the last limit test: how far the angle can move this step
