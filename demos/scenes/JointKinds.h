@@ -1,0 +1,72 @@
+// Joint kinds: what a Bullet user would pick for a hinge, each built from the same scene description, and the
+// measured run of a scene with one kind. A new kind (another stabilizer, another solver) is one more case in
+// JointKinds.cpp; the scenes do not change.
+#ifndef QUATHINGE_JOINT_KINDS_H
+#define QUATHINGE_JOINT_KINDS_H
+
+#include "SceneSpec.h"
+
+#include <string>
+#include <vector>
+
+namespace quathinge
+{
+namespace scenes
+{
+enum class Kind
+{
+	Stock,                 ///< btHingeConstraint
+	Generic6Dof2,          ///< btGeneric6DofSpring2Constraint with 5 locked axes
+	Quaternion,            ///< btQuaternionHingeConstraint
+	QuaternionStabilized,  ///< btQuaternionHingeConstraint + btQuaternionHingeStabilizer
+};
+std::vector<Kind> allKinds();
+std::string kindName(Kind kind);
+/// Throws std::invalid_argument naming the unknown kind.
+Kind parseKind(const std::string& name);
+
+struct RunSettings
+{
+	double dt = 1.0 / 60;   ///< s
+	int iterations = 10;    ///< solver iterations
+	double duration = -1;   ///< s; < 0: the scene's own
+	bool reference = true;  ///< run the fine-step reference where the scene asks for one
+	bool series = false;    ///< record time series
+};
+
+struct SeriesPoint
+{
+	double t, separation, misalignmentDeg, energy;
+};
+
+struct Metrics
+{
+	std::string scene, kind;
+	double dt = 0;
+	int iterations = 0;
+	std::string skipped;                 ///< why this scene × kind did not run (empty when it ran)
+	double maxSeparation = 0;            ///< m, over joints and steps
+	double rmsSeparation = 0;            ///< m
+	double maxMisalignmentDeg = 0;       ///< degrees
+	double rmsMisalignmentDeg = 0;       ///< degrees
+	double energyDrift = -1;             ///< max |E − E₀| / energy scale; −1 when the scene is not conservative
+	double trajectoryError = -1;         ///< m (fine-step reference) or relative (period); −1 when none
+	std::string reference;               ///< which reference trajectoryError uses
+	double recoveryTime = -1;            ///< s after which every joint's misalignment stays below 1°; −1 if never
+	double limitViolation = -1;          ///< rad, worst excursion past a limit (θ from the frames); −1: no limits
+	double finalTheta = 0;               ///< rad, the first joint's continuous θ at the end (from the frames)
+	bool blewUp = false;
+	double blowUpTime = -1;              ///< s
+	double wallPerSimSecond = 0;         ///< s of wall time per simulated second (the scene alone, no reference)
+	double rowsPerStep = 0;              ///< solver rows of the compared joints, mean per step
+	int steps = 0;
+	std::vector<SeriesPoint> series;
+};
+
+/// Runs `scene` with `kind`. Never throws for a scene that cannot run with a kind: Metrics::skipped says why.
+Metrics runScene(const SceneSpec& scene, Kind kind, const RunSettings& settings);
+
+}  // namespace scenes
+}  // namespace quathinge
+
+#endif

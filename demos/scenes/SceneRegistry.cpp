@@ -1,0 +1,92 @@
+// The list of scenes, by name, and the helpers several scenes share.
+#include "SceneSpec.h"
+
+#include <map>
+#include <stdexcept>
+
+namespace quathinge
+{
+namespace scenes
+{
+bool isTree(const SceneSpec& scene)
+{
+	std::vector<int> parents(scene.bodies.size(), 0);
+	for (const JointSpec& j : scene.joints)
+		if (++parents[size_t(j.child)] > 1) return false;
+	// one parent each; a loop would need a body to be its own ancestor
+	for (size_t start = 0; start < scene.joints.size(); ++start)
+	{
+		int body = scene.joints[start].parent;
+		for (size_t hops = 0; body >= 0 && hops <= scene.joints.size(); ++hops)
+		{
+			int next = -1;
+			for (const JointSpec& j : scene.joints)
+				if (j.child == body) next = j.parent;
+			if (next == scene.joints[start].child) return false;
+			body = next;
+		}
+	}
+	return true;
+}
+
+void appendChain(SceneSpec& scene, int links, btScalar length, btScalar mass, const btVector3& top,
+				 const std::function<btVector3(int)>& axisOf)
+{
+	// links laid along +x from `top` (released horizontally), each a box whose long local y axis lies along the chain
+	const btQuaternion alongX(btVector3(0, 0, 1), -SIMD_HALF_PI);  // local +y → world +x
+	const int first = int(scene.bodies.size());
+	for (int i = 0; i < links; ++i)
+	{
+		BodySpec body;
+		body.mass = mass;
+		body.halfExtents = btVector3(btScalar(0.05), length / 2, btScalar(0.05));
+		body.pose = btTransform(alongX, top + btVector3(length * (btScalar(i) + btScalar(0.5)), 0, 0));
+		scene.bodies.push_back(body);
+		JointSpec joint;
+		joint.parent = i == 0 ? -1 : first + i - 1;
+		joint.child = first + i;
+		joint.pivot = top + btVector3(length * btScalar(i), 0, 0);
+		joint.axis = axisOf(i).normalized();
+		scene.joints.push_back(joint);
+	}
+}
+
+std::vector<std::string> sceneNames()
+{
+	return {"pendulum",      "chain10",       "chain30",         "chain100",       "heavy10",  "heavy100",
+			"heavy1000",     "heavy10000",    "double_pendulum", "rotor100",       "rotor1000", "flipped90",
+			"flipped179",    "flipped180",    "limit_hit",       "limit_across_pi", "limit_wide", "motor_lift",
+			"four_bar",      "ragdoll",       "spider",          "kuka_iiwa",      "pendulum5"};
+}
+
+SceneSpec makeScene(const std::string& name, unsigned seed, const std::string& modelsDir)
+{
+	if (name == "pendulum") return pendulumScene();
+	if (name == "chain10") return chainScene(10, seed);
+	if (name == "chain30") return chainScene(30, seed);
+	if (name == "chain100") return chainScene(100, seed);
+	if (name == "heavy10") return heavyLoadScene(10);
+	if (name == "heavy100") return heavyLoadScene(100);
+	if (name == "heavy1000") return heavyLoadScene(1000);
+	if (name == "heavy10000") return heavyLoadScene(10000);
+	if (name == "double_pendulum") return doublePendulumScene();
+	if (name == "rotor100") return rotorScene(100);
+	if (name == "rotor1000") return rotorScene(1000);
+	if (name == "flipped90") return flippedStartScene(90);
+	if (name == "flipped179") return flippedStartScene(179);
+	if (name == "flipped180") return flippedStartScene(180);
+	if (name == "limit_hit") return limitHitScene();
+	if (name == "limit_across_pi") return limitAcrossPiScene();
+	if (name == "limit_wide") return limitWideScene();
+	if (name == "motor_lift") return motorLiftScene();
+	if (name == "four_bar") return fourBarScene();
+	if (name == "ragdoll") return ragdollScene(seed);
+	if (name == "spider") return spiderScene(modelsDir);
+	if (name == "kuka_iiwa") return urdfScene(name, modelsDir + "/kuka_iiwa_model.urdf");
+	if (name == "pendulum5") return urdfScene(name, modelsDir + "/pendulum5.urdf");
+	if (name.size() > 5 && name.compare(name.size() - 5, 5, ".urdf") == 0) return urdfScene(name, name);
+	throw std::invalid_argument("makeScene: name: unknown scene '" + name + "'");
+}
+
+}  // namespace scenes
+}  // namespace quathinge

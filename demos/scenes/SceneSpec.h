@@ -1,0 +1,114 @@
+// The scene library shared by the comparison demo, the benchmark and the tests. A scene is a plain description —
+// bodies, hinge joints (pivot and axis in world at the start), gravity, duration, which reference it is judged by —
+// and a joint kind (JointKinds.h) turns it into a Bullet world. Every scene is deterministic: it takes a seed and
+// draws any randomness from it. One file per scene (scene_*.cpp); SceneRegistry.cpp lists them.
+#ifndef QUATHINGE_SCENE_SPEC_H
+#define QUATHINGE_SCENE_SPEC_H
+
+#include "LinearMath/btQuaternion.h"
+#include "LinearMath/btTransform.h"
+#include "LinearMath/btVector3.h"
+
+#include <functional>
+#include <string>
+#include <vector>
+
+namespace quathinge
+{
+namespace scenes
+{
+struct BodySpec
+{
+	btScalar mass = 1;                                       ///< kg; 0 makes a static body
+	/// Principal moments of inertia (kg·m²) in the body frame; zero: those of the box (URDF bodies give their own).
+	btVector3 localInertia = btVector3(0, 0, 0);
+	btVector3 halfExtents = btVector3(btScalar(0.05), btScalar(0.25), btScalar(0.05));  ///< box, m
+	btTransform pose = btTransform::getIdentity();          ///< world pose at t = 0
+	btVector3 linearVelocity = btVector3(0, 0, 0);         ///< m/s
+	btVector3 angularVelocity = btVector3(0, 0, 0);        ///< rad/s (world)
+	bool collides = false;                                   ///< take part in contacts (ragdoll on the ground)
+};
+
+enum class Drive
+{
+	None,
+	Velocity,  ///< target angular velocity `target` (rad/s) with at most `maxEffort` N·m·s per step
+	Servo      ///< target angle `target` (rad) at most `maxSpeed` rad/s with at most `maxEffort` N·m
+};
+
+/// A hinge. Angles are θ: the child's rotation about +axis relative to the parent, 0 at the start pose.
+struct JointSpec
+{
+	int parent = -1;          ///< body index, −1 for the world
+	int child = 0;            ///< body index
+	btVector3 pivot;          ///< world, at t = 0
+	btVector3 axis;           ///< world unit vector, at t = 0
+	/// Rotation applied to the child's joint frame: the joint starts misaligned by it (flipped starts). Identity
+	/// for an assembled joint.
+	btQuaternion childFrameTwist = btQuaternion::getIdentity();
+	bool hasLimit = false;
+	btScalar lower = 0, upper = 0;  ///< rad (θ)
+	Drive drive = Drive::None;
+	btScalar target = 0, maxSpeed = SIMD_INFINITY, maxEffort = 0;
+};
+
+/// How a scene's trajectory error is judged.
+enum class Reference
+{
+	FineStep,        ///< the same scene and kind at a 16× smaller step with 100 iterations
+	PendulumPeriod,  ///< the exact period of a physical pendulum (complete elliptic integral)
+	None             ///< no trajectory reference (contacts, loaded scenes): drift and stability only
+};
+
+struct SceneSpec
+{
+	std::string name;
+	std::string description;
+	std::vector<BodySpec> bodies;
+	std::vector<JointSpec> joints;
+	btVector3 gravity = btVector3(0, -10, 0);
+	double duration = 5;          ///< s simulated by default
+	bool conservative = false;    ///< energy should be conserved (no drives, limits, contacts or damping)
+	bool ground = false;          ///< a static ground plane at y = 0
+	Reference reference = Reference::FineStep;
+	double exactPeriod = 0;       ///< s, for Reference::PendulumPeriod
+	/// For scenes loaded from files: a reason the scene cannot run here (a missing file); empty when it can.
+	std::string unavailable;
+	/// For scenes that are a file rather than a description (spider.bullet): builds the bodies and stock hinges
+	/// into a world; the kinds then convert the hinges. Empty for described scenes.
+	std::string bulletFile;
+};
+
+/// The tree test for reduced-coordinate kinds: every body has at most one parent joint and there is no loop.
+bool isTree(const SceneSpec& scene);
+
+/// Every scene name, in a stable order.
+std::vector<std::string> sceneNames();
+/// The scene of that name (throws std::invalid_argument for an unknown name). `modelsDir` is where the shared
+/// models are (URDF, .bullet); `seed` drives any randomness.
+SceneSpec makeScene(const std::string& name, unsigned seed = 1, const std::string& modelsDir = "../shared/models");
+
+// The scene builders (one file each).
+SceneSpec pendulumScene();
+SceneSpec chainScene(int links, unsigned seed);
+SceneSpec heavyLoadScene(double ratio);
+SceneSpec doublePendulumScene();
+SceneSpec rotorScene(double spin);
+SceneSpec flippedStartScene(double degrees);
+SceneSpec limitHitScene();
+SceneSpec limitAcrossPiScene();
+SceneSpec limitWideScene();
+SceneSpec motorLiftScene();
+SceneSpec fourBarScene();
+SceneSpec ragdollScene(unsigned seed);
+SceneSpec spiderScene(const std::string& modelsDir);
+SceneSpec urdfScene(const std::string& name, const std::string& path);
+
+/// A chain of boxes hanging from the world, link i's top at `top` + i·(0, −length, 0) (helper for several scenes).
+void appendChain(SceneSpec& scene, int links, btScalar length, btScalar mass, const btVector3& top,
+				 const std::function<btVector3(int)>& axisOf);
+
+}  // namespace scenes
+}  // namespace quathinge
+
+#endif
