@@ -1,0 +1,26 @@
+#!/usr/bin/env bash
+# Regenerates every figure and the README's results table from fresh runs:
+#   bash demos/make_report.sh        (about two minutes on two cores)
+# Uses Debian's own /usr/bin/python3 (python3-matplotlib). Writes the plots to docs/images/ and the table into README.md (between the results markers).
+set -euo pipefail
+cd "$(dirname "$0")/.."
+bash cmake/setup-debian.sh
+cmake -S . -B build -DCMAKE_BUILD_TYPE=Release >/dev/null
+cmake --build build -j2 --target quathinge-compare
+compare=./build/demos/quathinge-compare
+out=demos/out/report
+mkdir -p "$out"
+models=${QUATHINGE_MODELS_DIR:-../shared/models}
+scenes_table=(pendulum chain10 chain30 heavy100 heavy1000 double_pendulum rotor100 flipped90 flipped179 flipped180
+              limit_hit limit_across_pi limit_wide motor_lift four_bar ragdoll spider kuka_iiwa pendulum5)
+# 1. the table: every listed scene × kind at 60 Hz, 10 iterations, with references
+$compare --models "$models" -s "${scenes_table[@]}" -o "$out/table" >"$out/table.txt"
+# 2. error against run time: step × iterations sweep (joint error needs no reference)
+$compare --models "$models" -s pendulum chain10 heavy100 four_bar double_pendulum ragdoll --no-reference -d 3 \
+  --sweep-dt 0.0333333 0.0166667 0.00833333 0.00416667 --sweep-iterations 2 5 10 20 50 -o "$out/sweep" >"$out/sweep.txt"
+# 3. drift and energy over time
+$compare --models "$models" -s pendulum chain10 heavy100 --no-reference --series -o "$out/series" >"$out/series.txt"
+note="Measured by \`bash demos/make_report.sh\` on $(lscpu | sed -n 's/^Model name: *//p' | head -1), $(nproc) cores, \
+$(date -u +%Y-%m-%d); 60 Hz, 10 iterations, Bullet $(pkg-config --modversion bullet) float. Full data: \`$out/\`."
+/usr/bin/python3 demos/plot_report.py --sweep "$out/sweep/results.json" --series "$out/series/results.json" \
+  --table "$out/table/results.json" --images docs/images --readme README.md --note "$note"

@@ -1,0 +1,155 @@
+#!/usr/bin/python3
+"""Plots and the README results table from quathinge-compare's JSON (Debian's python3-matplotlib only).
+
+  plot_report.py --sweep SWEEP.json --series SERIES.json --table TABLE.json --images DIR [--readme README.md]
+
+- error against run time: one panel per scene, log-log, wall time per simulated second against the maximum joint
+  separation, each kind's runs as points and its Pareto front as a line (sweep over step and iterations);
+- drift and energy over time for each kind (series);
+- the results table (TABLE.json, one run per scene × kind) as Markdown, written into README.md between the markers
+  <!-- results:begin --> and <!-- results:end --> when --readme is given (no figure in the README is typed by hand).
+"""
+import argparse
+import json
+import math
+import os
+import re
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+
+KIND_STYLE = {
+    "stock": ("tab:red", "o"),
+    "6dof2": ("tab:orange", "s"),
+    "quaternion": ("tab:blue", "^"),
+    "quaternion+stab": ("tab:green", "D"),
+}
+
+
+def load(path):
+    with open(path) as f:
+        return [r for r in json.load(f)["runs"] if not r["skipped"]]
+
+
+def pareto(points):
+    """Points (time, error) that no other point beats on both; sorted by time."""
+    front, best = [], math.inf
+    for t, e in sorted(points):
+        if e < best:
+            front.append((t, e))
+            best = e
+    return front
+
+
+def floor(v):
+    return max(v, 1e-12)  # log axes: an exact zero shows at the bottom
+
+
+def plot_sweep(runs, out):
+    scenes = sorted({r["scene"] for r in runs}, key=lambda s: [r["scene"] for r in runs].index(s))
+    cols = min(3, len(scenes))
+    rows = math.ceil(len(scenes) / cols)
+    fig, axes = plt.subplots(rows, cols, figsize=(5 * cols, 4 * rows), squeeze=False)
+    for ax, scene in zip(axes.flat, scenes):
+        for kind, (color, marker) in KIND_STYLE.items():
+            pts = [(r["wall_per_sim_s"], floor(r["max_separation_m"]), r) for r in runs
+                   if r["scene"] == scene and r["kind"] == kind and not r["blew_up"]]
+            if not pts:
+                continue
+            ax.scatter([p[0] for p in pts], [p[1] for p in pts], color=color, marker=marker, s=14, alpha=0.5)
+            front = pareto([(p[0], p[1]) for p in pts])
+            ax.plot([p[0] for p in front], [p[1] for p in front], color=color, label=kind)
+            blown = [r for r in runs if r["scene"] == scene and r["kind"] == kind and r["blew_up"]]
+            if blown:
+                ax.scatter([r["wall_per_sim_s"] for r in blown], [1e1] * len(blown), color=color, marker="x")
+        ax.set_xscale("log")
+        ax.set_yscale("log")
+        ax.set_title(scene)
+        ax.set_xlabel("wall time per simulated second (s)")
+        ax.set_ylabel("max joint separation (m)")
+        ax.grid(True, which="both", alpha=0.3)
+        ax.legend(fontsize=7)
+    for ax in list(axes.flat)[len(scenes):]:
+        ax.axis("off")
+    fig.suptitle("Error against run time (sweep over step and iterations; line: Pareto front; x: blew up)")
+    fig.tight_layout()
+    fig.savefig(os.path.join(out, "error_vs_time.png"), dpi=80)
+    plt.close(fig)
+
+
+def plot_series(runs, out):
+    scenes = sorted({r["scene"] for r in runs if "series" in r}, key=lambda s: [r["scene"] for r in runs].index(s))
+    fig, axes = plt.subplots(len(scenes), 2, figsize=(11, 3.2 * len(scenes)), squeeze=False)
+    for row, scene in enumerate(scenes):
+        for r in runs:
+            if r["scene"] != scene or "series" not in r:
+                continue
+            color = KIND_STYLE.get(r["kind"], ("k", "."))[0]
+            t = [p[0] for p in r["series"]]
+            axes[row][0].plot(t, [floor(p[1]) for p in r["series"]], color=color, label=r["kind"], lw=1)
+            e0 = r["series"][0][3]
+            axes[row][1].plot(t, [p[3] - e0 for p in r["series"]], color=color, label=r["kind"], lw=1)
+        axes[row][0].set_yscale("log")
+        axes[row][0].set_ylabel("max separation (m)")
+        axes[row][0].set_title(f"{scene}: joint drift")
+        axes[row][1].set_ylabel("E(t) − E(0) (J)")
+        axes[row][1].set_title(f"{scene}: energy")
+        for ax in axes[row]:
+            ax.set_xlabel("t (s)")
+            ax.grid(True, alpha=0.3)
+            ax.legend(fontsize=7)
+    fig.tight_layout()
+    fig.savefig(os.path.join(out, "drift_energy.png"), dpi=80)
+    plt.close(fig)
+
+
+def fmt(v, spec=".1e"):
+    return "–" if v is None or v < 0 else format(v, spec)
+
+
+def table(runs):
+    lines = [
+        "| scene | kind | max sep (m) | max mis (°) | recovery (s) | limit past (rad) | final θ (rad) | energy drift | traj. error | blow-up (s) | ms / sim-s | rows |",
+        "|---|---|---|---|---|---|---|---|---|---|---|---|",
+    ]
+    for r in runs:
+        lines.append("| {} | {} | {} | {} | {} | {} | {:.3g} | {} | {} | {} | {:.2f} | {:.1f} |".format(
+            r["scene"], r["kind"], fmt(r["max_separation_m"]), fmt(r["max_misalignment_deg"], ".2g"),
+            fmt(r["recovery_time_s"], ".3f"), fmt(r["limit_violation_rad"]), r["final_theta_rad"],
+            fmt(r["energy_drift"], ".2g"),
+            fmt(r["trajectory_error"]), fmt(r["blow_up_time_s"], ".2f") if r["blew_up"] else "–",
+            1e3 * r["wall_per_sim_s"], r["rows_per_step"]))
+    return "\n".join(lines)
+
+
+def main():
+    p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    p.add_argument("--sweep", required=True)
+    p.add_argument("--series", required=True)
+    p.add_argument("--table", required=True)
+    p.add_argument("--images", required=True)
+    p.add_argument("--readme")
+    p.add_argument("--note", default="", help="one line said above the table (machine, command)")
+    a = p.parse_args()
+    os.makedirs(a.images, exist_ok=True)
+    plot_sweep(load(a.sweep), a.images)
+    plot_series(load(a.series), a.images)
+    md = table(load(a.table))
+    with open(os.path.join(a.images, "results.md"), "w") as f:
+        f.write(md + "\n")
+    if a.readme:
+        with open(a.readme) as f:
+            text = f.read()
+        block = f"<!-- results:begin -->\n{a.note}\n\n{md}\n<!-- results:end -->"
+        text, n = re.subn(r"<!-- results:begin -->.*?<!-- results:end -->", lambda _: block, text, flags=re.S)
+        if n != 1:
+            raise SystemExit("README has no <!-- results:begin --> ... <!-- results:end --> block")
+        with open(a.readme, "w") as f:
+            f.write(text)
+    print(f"wrote {a.images}/error_vs_time.png, drift_energy.png, results.md" + (f" and {a.readme}" if a.readme else ""))
+
+
+if __name__ == "__main__":
+    main()
