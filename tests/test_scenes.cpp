@@ -60,10 +60,19 @@ TEST(Scenes, EverySceneRunsWithEveryKind)
 		for (Kind kind : allKinds())
 		{
 			const Metrics m = runScene(scene, kind, settings);
+			if (kind == Kind::MultiBody && (!isTree(scene) || !scene.bulletFile.empty() || name.rfind("flipped", 0) == 0))
+			{
+				// reduced coordinates cannot express a loop, a file of stock hinges or a misaligned start: said, not run
+				EXPECT_FALSE(m.skipped.empty()) << name;
+				continue;
+			}
 			EXPECT_TRUE(m.skipped.empty()) << name << " " << kindName(kind) << ": " << m.skipped;
 			EXPECT_EQ(m.steps, 15) << name << " " << kindName(kind);
 			EXPECT_TRUE(std::isfinite(m.maxSeparation)) << name << " " << kindName(kind);
-			EXPECT_GT(m.rowsPerStep, 0) << name << " " << kindName(kind);
+			if (kind != Kind::MultiBody)  // multibody joints are coordinates, not rows
+			{
+				EXPECT_GT(m.rowsPerStep, 0) << name << " " << kindName(kind);
+			}
 			if (kind == Kind::QuaternionStabilized && !m.blewUp)
 			{
 				EXPECT_LT(m.maxSeparation, 1e-4) << name;  // m: the stabilizer holds every scene together

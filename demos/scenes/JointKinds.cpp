@@ -5,6 +5,13 @@
 #include "quathinge/btQuaternionHingeStabilizer.h"
 
 #include <btBulletDynamicsCommon.h>
+
+#include "BulletDynamics/Featherstone/btMultiBody.h"
+#include "BulletDynamics/Featherstone/btMultiBodyConstraintSolver.h"
+#include "BulletDynamics/Featherstone/btMultiBodyDynamicsWorld.h"
+#include "BulletDynamics/Featherstone/btMultiBodyJointLimitConstraint.h"
+#include "BulletDynamics/Featherstone/btMultiBodyJointMotor.h"
+#include "BulletDynamics/Featherstone/btMultiBodyLinkCollider.h"
 #ifdef QUATHINGE_HAVE_WORLD_IMPORTER
 #include <btBulletWorldImporter.h>
 #endif
@@ -18,7 +25,10 @@ namespace quathinge
 {
 namespace scenes
 {
-std::vector<Kind> allKinds() { return {Kind::Stock, Kind::Generic6Dof2, Kind::Quaternion, Kind::QuaternionStabilized}; }
+std::vector<Kind> allKinds()
+{
+	return {Kind::Stock, Kind::Generic6Dof2, Kind::Quaternion, Kind::QuaternionStabilized, Kind::MultiBody};
+}
 
 std::string kindName(Kind kind)
 {
@@ -28,6 +38,7 @@ std::string kindName(Kind kind)
 		case Kind::Generic6Dof2: return "6dof2";
 		case Kind::Quaternion: return "quaternion";
 		case Kind::QuaternionStabilized: return "quaternion+stab";
+		case Kind::MultiBody: return "multibody";
 	}
 	return "?";
 }
@@ -37,7 +48,7 @@ Kind parseKind(const std::string& name)
 	for (Kind k : allKinds())
 		if (kindName(k) == name) return k;
 	throw std::invalid_argument("parseKind: kind: unknown joint kind '" + name +
-								"' (stock, 6dof2, quaternion, quaternion+stab)");
+								"' (stock, 6dof2, quaternion, quaternion+stab, multibody)");
 }
 
 namespace
@@ -93,13 +104,27 @@ private:
 	btTypedConstraint* makeJoint(const JointSpec& j, btRigidBody& a, btRigidBody& b, const btTransform& fa,
 								 const btTransform& fb);
 	void loadBulletFile(const SceneSpec& scene);
+	void buildMultiBodies(const SceneSpec& scene, btRigidBody* anchor);
+	void syncProxies();
 	Kind m_kind;
 	btVector3 m_gravity;
 	std::unique_ptr<btDefaultCollisionConfiguration> m_config;
 	std::unique_ptr<btCollisionDispatcher> m_dispatcher;
 	std::unique_ptr<btDbvtBroadphase> m_broadphase;
-	std::unique_ptr<btSequentialImpulseConstraintSolver> m_solver;
+	std::unique_ptr<btConstraintSolver> m_solver;
 	std::unique_ptr<btDiscreteDynamicsWorld> m_world;
+	// Multibody kind: the multibodies, their constraints and colliders, and for each scene body a proxy rigid body
+	// (not in the world) that mirrors its link's state, so every metric reads the same btRigidBody interface.
+	struct LinkRef
+	{
+		btMultiBody* mb;
+		int link;  // −1: the base
+	};
+	std::vector<std::unique_ptr<btMultiBody>> m_multiBodies;
+	std::vector<std::unique_ptr<btMultiBodyConstraint>> m_mbConstraints;
+	std::vector<std::unique_ptr<btMultiBodyLinkCollider>> m_colliders;
+	std::vector<LinkRef> m_proxyOf;  // per scene body
+	int m_mbRows = 0;
 	std::vector<std::unique_ptr<btCollisionShape>> m_shapes;
 	std::vector<std::unique_ptr<btRigidBody>> m_ownedBodies;
 	std::vector<std::unique_ptr<btTypedConstraint>> m_ownedJoints;
@@ -121,10 +146,21 @@ Simulation::Simulation(const SceneSpec& scene, Kind kind)
 	  m_gravity(scene.gravity),
 	  m_config(new btDefaultCollisionConfiguration),
 	  m_dispatcher(new btCollisionDispatcher(m_config.get())),
-	  m_broadphase(new btDbvtBroadphase),
-	  m_solver(new btSequentialImpulseConstraintSolver)
+	  m_broadphase(new btDbvtBroadphase)
 {
-	m_world.reset(new btDiscreteDynamicsWorld(m_dispatcher.get(), m_broadphase.get(), m_solver.get(), m_config.get()));
+	if (kind == Kind::MultiBody)
+	{
+		if (!scene.bulletFile.empty()) throw std::runtime_error("multibody: a loaded .bullet scene has no tree description");
+		if (!isTree(scene)) throw std::runtime_error("multibody: scene has a closed loop");
+		auto* solver = new btMultiBodyConstraintSolver;
+		m_solver.reset(solver);
+		m_world.reset(new btMultiBodyDynamicsWorld(m_dispatcher.get(), m_broadphase.get(), solver, m_config.get()));
+	}
+	else
+	{
+		m_solver.reset(new btSequentialImpulseConstraintSolver);
+		m_world.reset(new btDiscreteDynamicsWorld(m_dispatcher.get(), m_broadphase.get(), m_solver.get(), m_config.get()));
+	}
 	m_world->setGravity(scene.gravity);
 	if (!scene.bulletFile.empty())
 	{
@@ -157,12 +193,33 @@ Simulation::Simulation(const SceneSpec& scene, Kind kind)
 			body->setLinearVelocity(spec.linearVelocity);
 			body->setAngularVelocity(spec.angularVelocity);
 			body->setActivationState(DISABLE_DEACTIVATION);
-			if (spec.collides) m_world->addRigidBody(body);
-			else m_world->addRigidBody(body, 0, 0);  // no contacts
+			if (kind != Kind::MultiBody)
+			{
+				if (spec.collides) m_world->addRigidBody(body);
+				else m_world->addRigidBody(body, 0, 0);  // no contacts
+			}
 			bodies.push_back(body);
+		}
+		if (kind == Kind::MultiBody)
+		{
+			buildMultiBodies(scene, anchor);
+			for (const JointSpec& j : scene.joints)
+			{
+				btRigidBody& a = j.parent < 0 ? *anchor : *bodies[size_t(j.parent)];
+				btRigidBody& b = *bodies[size_t(j.child)];
+				const btTransform frame = jointFrame(j.pivot, j.axis);
+				MeasuredJoint measured{&a, &b, a.getCenterOfMassTransform().inverse() * frame,
+									   b.getCenterOfMassTransform().inverse() * frame * btTransform(j.childFrameTwist)};
+				measured.hasLimit = j.hasLimit;
+				measured.lower = j.lower;
+				measured.upper = j.upper;
+				trackTheta(measured);
+				joints.push_back(measured);
+			}
 		}
 		for (const JointSpec& j : scene.joints)
 		{
+			if (kind == Kind::MultiBody) break;
 			btRigidBody& a = j.parent < 0 ? *anchor : *bodies[size_t(j.parent)];
 			btRigidBody& b = *bodies[size_t(j.child)];
 			const btTransform frame = jointFrame(j.pivot, j.axis);
@@ -191,6 +248,12 @@ Simulation::Simulation(const SceneSpec& scene, Kind kind)
 Simulation::~Simulation()
 {
 	if (m_stabilizer) m_world->removeAction(m_stabilizer.get());
+	if (auto* mbWorld = dynamic_cast<btMultiBodyDynamicsWorld*>(m_world.get()))
+	{
+		for (auto& c : m_mbConstraints) mbWorld->removeMultiBodyConstraint(c.get());
+		for (auto& c : m_colliders) mbWorld->removeCollisionObject(c.get());
+		for (auto& mb : m_multiBodies) mbWorld->removeMultiBody(mb.get());
+	}
 	for (auto& c : m_ownedJoints) m_world->removeConstraint(c.get());
 	for (auto& b : m_ownedBodies) m_world->removeRigidBody(b.get());
 #ifdef QUATHINGE_HAVE_WORLD_IMPORTER
@@ -253,6 +316,8 @@ btTypedConstraint* Simulation::makeJoint(const JointSpec& j, btRigidBody& a, btR
 			}
 			return d;
 		}
+		case Kind::MultiBody:
+			break;  // built by buildMultiBodies
 		case Kind::Quaternion:
 		case Kind::QuaternionStabilized:
 		{
@@ -348,11 +413,168 @@ void Simulation::step(double dt, int iterations)
 	}
 	m_world->getSolverInfo().m_numIterations = iterations;
 	m_world->stepSimulation(btScalar(dt), 0, btScalar(dt));
+	if (m_kind == Kind::MultiBody) syncProxies();
+}
+
+void Simulation::buildMultiBodies(const SceneSpec& scene, btRigidBody* anchor)
+{
+	// One multibody per connected tree: fixed base at the world when a joint hangs from it, else the tree's root body
+	// as a floating base. Links in breadth-first order, so a parent always precedes its children.
+	const int n = int(scene.bodies.size());
+	std::vector<int> parentJoint(size_t(n), -1);
+	for (size_t k = 0; k < scene.joints.size(); ++k)
+	{
+		const JointSpec& j = scene.joints[k];
+		const btQuaternion& tw = j.childFrameTwist;
+		if (btFabs(tw.x()) > SIMD_EPSILON || btFabs(tw.y()) > SIMD_EPSILON)
+			throw std::runtime_error("multibody: a reduced-coordinate joint cannot start misaligned");
+		parentJoint[size_t(j.child)] = int(k);
+	}
+	m_proxyOf.assign(size_t(n), LinkRef{nullptr, -1});
+	std::vector<bool> placed(size_t(n), false);
+	auto* mbWorld = static_cast<btMultiBodyDynamicsWorld*>(m_world.get());
+	(void)anchor;  // the world is the fixed base's frame (identity), as the anchor's
+	// roots: the world (parent −1 joints) and bodies without a parent joint
+	std::vector<int> roots{-1};
+	for (int b = 0; b < n; ++b)
+		if (parentJoint[size_t(b)] < 0) roots.push_back(b);
+	for (int root : roots)
+	{
+		std::vector<int> order;  // bodies in this tree, breadth first
+		std::vector<int> frontier{root};
+		while (!frontier.empty())
+		{
+			std::vector<int> next;
+			for (int parent : frontier)
+				for (const JointSpec& j : scene.joints)
+					if (j.parent == parent && !placed[size_t(j.child)])
+					{
+						placed[size_t(j.child)] = true;
+						order.push_back(j.child);
+						next.push_back(j.child);
+					}
+			frontier = next;
+		}
+		if (root >= 0) placed[size_t(root)] = true;
+		if (root < 0 && order.empty()) continue;
+		const bool fixedBase = root < 0;
+		const BodySpec* baseSpec = fixedBase ? nullptr : &scene.bodies[size_t(root)];
+		btRigidBody* baseBody = fixedBase ? nullptr : bodies[size_t(root)];
+		const btVector3 baseInertia = fixedBase ? btVector3(0, 0, 0) : baseBody->getLocalInertia();
+		auto* mb = new btMultiBody(int(order.size()), fixedBase ? 0 : baseSpec->mass, baseInertia, fixedBase, false);
+		m_multiBodies.emplace_back(mb);
+		const btTransform basePose = fixedBase ? btTransform::getIdentity() : baseSpec->pose;
+		mb->setBaseWorldTransform(basePose);
+		if (!fixedBase) m_proxyOf[size_t(root)] = {mb, -1};
+		std::vector<int> linkOf(size_t(n), -1);
+		for (size_t i = 0; i < order.size(); ++i) linkOf[size_t(order[i])] = int(i);
+		for (size_t i = 0; i < order.size(); ++i)
+		{
+			const int body = order[i];
+			const JointSpec& j = scene.joints[size_t(parentJoint[size_t(body)])];
+			const btTransform parentPose = j.parent < 0 ? btTransform::getIdentity() : scene.bodies[size_t(j.parent)].pose;
+			const btTransform& childPose = scene.bodies[size_t(body)].pose;
+			const int parentLink = j.parent < 0 || j.parent == root ? -1 : linkOf[size_t(j.parent)];
+			const btMatrix3x3 rc = childPose.getBasis(), rp = parentPose.getBasis();
+			mb->setupRevolute(int(i), bodies[size_t(body)]->getInvMass() > 0 ? 1 / bodies[size_t(body)]->getInvMass() : 0,
+							  bodies[size_t(body)]->getLocalInertia(), parentLink,
+							  childPose.getRotation().inverse() * parentPose.getRotation(), rc.transpose() * j.axis,
+							  rp.transpose() * (j.pivot - parentPose.getOrigin()), rc.transpose() * (childPose.getOrigin() - j.pivot),
+							  true);
+			m_proxyOf[size_t(body)] = {mb, int(i)};
+		}
+		mb->finalizeMultiDof();  // sizes the velocity buffers: velocities are set after it
+		if (!fixedBase)
+		{
+			mb->setBaseVel(baseSpec->linearVelocity);
+			mb->setBaseOmega(baseSpec->angularVelocity);
+		}
+		mb->setLinearDamping(0);
+		mb->setAngularDamping(0);
+		mb->setHasSelfCollision(false);
+		// joint angles: θ starts at the child frame's twist about the axis (q = θ − φ); rates from the body velocities
+		for (size_t i = 0; i < order.size(); ++i)
+		{
+			const int body = order[i];
+			const JointSpec& j = scene.joints[size_t(parentJoint[size_t(body)])];
+			const btVector3 wParent = j.parent < 0 ? btVector3(0, 0, 0) : scene.bodies[size_t(j.parent)].angularVelocity;
+			mb->setJointVel(int(i), (scene.bodies[size_t(body)].angularVelocity - wParent).dot(j.axis));
+			const btScalar phi = j.childFrameTwist.getAngle() * (j.childFrameTwist.z() >= 0 ? 1 : -1);
+			if (j.hasLimit)
+			{
+				m_mbConstraints.emplace_back(new btMultiBodyJointLimitConstraint(mb, int(i), j.lower - phi, j.upper - phi));
+				++m_mbRows;
+			}
+			if (j.drive == Drive::Velocity)
+			{
+				m_mbConstraints.emplace_back(new btMultiBodyJointMotor(mb, int(i), j.target, j.maxEffort));
+				++m_mbRows;
+			}
+			else if (j.drive == Drive::Servo)
+			{
+				auto* motor = new btMultiBodyJointMotor(mb, int(i), 0, j.maxEffort / 60);
+				motor->setPositionTarget(j.target - phi, btScalar(0.2));
+				motor->setVelocityTarget(0, btScalar(0.2));
+				m_mbConstraints.emplace_back(motor);
+				++m_mbRows;
+			}
+		}
+		// A collider per body: Bullet assigns multibody constraints (limits, motors) to islands through them. Bodies that
+		// take no part in contacts get an empty collision filter.
+		for (int k = -1; k < int(order.size()); ++k)
+		{
+			const int body = k < 0 ? root : order[size_t(k)];
+			if (body < 0) continue;
+			auto* collider = new btMultiBodyLinkCollider(mb, k);
+			collider->setCollisionShape(bodies[size_t(body)]->getCollisionShape());
+			collider->setWorldTransform(scene.bodies[size_t(body)].pose);
+			collider->setFriction(btScalar(0.8));
+			m_colliders.emplace_back(collider);
+			const bool collides = scene.bodies[size_t(body)].collides;
+			mbWorld->addCollisionObject(collider, collides ? int(btBroadphaseProxy::DefaultFilter) : 0,
+										collides ? int(btBroadphaseProxy::AllFilter) : 0);
+			if (k < 0) mb->setBaseCollider(collider);
+			else mb->getLink(k).m_collider = collider;
+		}
+		mbWorld->addMultiBody(mb);
+	}
+	for (auto& c : m_mbConstraints)
+	{
+		c->finalizeMultiDof();  // allocates the constraint's Jacobians (not done by its constructor)
+		mbWorld->addMultiBodyConstraint(c.get());
+	}
+	syncProxies();
+}
+
+void Simulation::syncProxies()
+{
+	btAlignedObjectArray<btQuaternion> scratchQ;
+	btAlignedObjectArray<btVector3> scratchM;
+	std::vector<btVector3> omega, vel;
+	btMultiBody* velocitiesOf = nullptr;
+	for (size_t b = 0; b < m_proxyOf.size(); ++b)
+	{
+		const LinkRef& ref = m_proxyOf[b];
+		if (!ref.mb) continue;
+		if (velocitiesOf != ref.mb)
+		{
+			ref.mb->forwardKinematics(scratchQ, scratchM);
+			omega.assign(size_t(ref.mb->getNumLinks() + 1), btVector3(0, 0, 0));
+			vel.assign(size_t(ref.mb->getNumLinks() + 1), btVector3(0, 0, 0));
+			ref.mb->compTreeLinkVelocities(omega.data(), vel.data());
+			velocitiesOf = ref.mb;
+		}
+		const btTransform pose =
+			ref.link < 0 ? ref.mb->getBaseWorldTransform() : ref.mb->getLink(ref.link).m_cachedWorldTransform;
+		bodies[b]->setCenterOfMassTransform(pose);
+		bodies[b]->setAngularVelocity(pose.getBasis() * omega[size_t(ref.link + 1)]);
+		bodies[b]->setLinearVelocity(pose.getBasis() * vel[size_t(ref.link + 1)]);
+	}
 }
 
 int Simulation::rows()
 {
-	int total = 0;
+	int total = m_mbRows;  // multibody: joints are coordinates, not rows; limits and motors are one row each
 	for (btTypedConstraint* c : m_compared)
 	{
 		if (!c->isEnabled()) continue;

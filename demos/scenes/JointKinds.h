@@ -19,6 +19,7 @@ enum class Kind
 	Generic6Dof2,          ///< btGeneric6DofSpring2Constraint with 5 locked axes
 	Quaternion,            ///< btQuaternionHingeConstraint
 	QuaternionStabilized,  ///< btQuaternionHingeConstraint + btQuaternionHingeStabilizer
+	MultiBody,             ///< btMultiBody revolute joints (Featherstone, reduced coordinates): trees only
 };
 std::vector<Kind> allKinds();
 std::string kindName(Kind kind);
