@@ -25,6 +25,7 @@ KIND_STYLE = {
     "6dof2": ("tab:orange", "s"),
     "quaternion": ("tab:blue", "^"),
     "quaternion+stab": ("tab:green", "D"),
+    "multibody": ("tab:purple", "v"),
 }
 
 
