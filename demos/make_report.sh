@@ -11,7 +11,7 @@ compare=./build/demos/quathinge-compare
 out=demos/out/report
 mkdir -p "$out"
 models=${QUATHINGE_MODELS_DIR:-../shared/models}
-scenes_table=(pendulum chain10 chain30 heavy100 heavy1000 double_pendulum rotor100 flipped90 flipped179 flipped180
+scenes_table=(pendulum chain10 chain30 heavy100 heavy1000 heavy10000 double_pendulum rotor100 flipped90 flipped179 flipped180
               limit_hit limit_across_pi limit_wide motor_lift four_bar ragdoll spider kuka_iiwa pendulum5)
 # 1. the table: every listed scene × kind at 60 Hz, 10 iterations, with references
 $compare --models "$models" -s "${scenes_table[@]}" -o "$out/table" >"$out/table.txt"
