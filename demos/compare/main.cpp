@@ -96,6 +96,7 @@ int main(int argc, char** argv)
 	std::vector<int> sweepIterations;
 	std::string out = "demos/out", models = "";
 	bool noReference = false, series = false, list = false;
+	long soak = 0;
 	app.add_option("-s,--scenes", scenes, "scene names (--list shows them), or URDF paths")->capture_default_str();
 	app.add_option("-k,--kinds", kinds, "joint kinds: stock 6dof2 quaternion quaternion+stab")->capture_default_str();
 	app.add_option("--dt", dt, "time step (s)")->capture_default_str()->check(CLI::PositiveNumber);
@@ -110,6 +111,8 @@ int main(int argc, char** argv)
 	app.add_flag("--no-reference", noReference, "skip the fine-step reference runs (faster; no trajectory error)");
 	app.add_flag("--series", series, "record time series (separation, misalignment, energy) in the JSON");
 	app.add_flag("--list", list, "list the scenes and exit");
+	app.add_option("--soak", soak, "soak: run each scene x kind for this many steps (no reference), checking for NaN, "
+								   "energy and resident memory")->check(CLI::PositiveNumber);
 	CLI11_PARSE(app, argc, argv);
 
 	if (models.empty()) models = std::getenv("QUATHINGE_MODELS_DIR") ? std::getenv("QUATHINGE_MODELS_DIR") : "../shared/models";
@@ -138,6 +141,12 @@ int main(int argc, char** argv)
 						settings.duration = duration;
 						settings.reference = !noReference;
 						settings.series = series;
+						if (soak > 0)
+						{
+							settings.duration = double(soak) * h;
+							settings.reference = false;
+							settings.memoryEvery = int(std::max(1L, soak / 20));
+						}
 						queue.push_back({scene, parseKind(k), settings});
 					}
 		}
@@ -191,9 +200,26 @@ int main(int argc, char** argv)
 								 m.blewUp ? fmt::format("{:.2f}", m.blowUpTime) : "-", 1e3 * m.wallPerSimSecond,
 								 m.rowsPerStep);
 	}
+	if (soak > 0)
+	{
+		std::cout << "\nsoak: steps, blow-up, energy drift, resident memory at the first and last of 20 samples (kB)\n";
+		for (const Metrics& m : results)
+			if (m.skipped.empty())
+				std::cout << fmt::format("{:<16} {:<16} {:>9} steps  blow-up {}  energy {}  max sep {}  rss {} -> {} kB\n", m.scene,
+										 m.kind, m.steps, m.blewUp ? "YES" : "no", figure(m.energyDrift), figure(m.maxSeparation),
+										 m.rssFirstKb, m.rssLastKb);
+	}
 	std::filesystem::create_directories(out);
 	writeCsv(out + "/results.csv", results);
 	writeJson(out + "/results.json", results);
+	if (soak > 0)
+		for (const Metrics& m : results)
+			if (m.blewUp)
+			{
+				std::cerr << "quathinge-compare: soak failed: " << m.scene << " " << m.kind << " blew up at t = " << m.blowUpTime
+						  << " s\n";
+				return 1;
+			}
 	std::cout << fmt::format("\nwrote {0}/results.csv and {0}/results.json ({1} runs). energy: max |E-E0| / energy "
 							 "scale; traj err: m against the fine-step reference, or relative period error.\n",
 							 out, results.size());

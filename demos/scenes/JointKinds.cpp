@@ -18,6 +18,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <fstream>
 #include <memory>
 #include <stdexcept>
 
@@ -628,6 +629,15 @@ std::vector<btVector3> Simulation::positions() const
 	return p;
 }
 
+// The process's resident set size in kB (Linux /proc), for soak runs; −1 where unavailable.
+long residentKb()
+{
+	std::ifstream statm("/proc/self/statm");
+	long pages = -1, resident = -1;
+	if (!(statm >> pages >> resident)) return -1;
+	return resident * 4;  // 4 KiB pages
+}
+
 // Downward zero crossings of the pendulum bob's horizontal position, for the period.
 struct PeriodMeter
 {
@@ -746,6 +756,11 @@ Metrics runScene(const SceneSpec& scene, Kind kind, const RunSettings& settings)
 			maxTraj = std::max(maxTraj, err);
 		}
 		if (settings.series) m.series.push_back({t, stepSep, stepMis, e});
+		if (settings.memoryEvery > 0 && i % settings.memoryEvery == 0)
+		{
+			m.rssLastKb = residentKb();
+			if (m.rssFirstKb < 0) m.rssFirstKb = m.rssLastKb;
+		}
 		m.steps = i;
 	}
 	if (!sim->joints.empty())

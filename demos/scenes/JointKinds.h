@@ -33,6 +33,7 @@ struct RunSettings
 	double duration = -1;   ///< s; < 0: the scene's own
 	bool reference = true;  ///< run the fine-step reference where the scene asks for one
 	bool series = false;    ///< record time series
+	int memoryEvery = 0;    ///< sample the process's resident memory every this many steps (soak runs); 0: never
 };
 
 struct SeriesPoint
@@ -61,6 +62,8 @@ struct Metrics
 	double wallPerSimSecond = 0;         ///< s of wall time per simulated second (the scene alone, no reference)
 	double rowsPerStep = 0;              ///< solver rows of the compared joints, mean per step
 	int steps = 0;
+	long rssFirstKb = -1;                ///< resident memory at the first sample (kB), soak runs
+	long rssLastKb = -1;                 ///< resident memory at the last sample (kB)
 	std::vector<SeriesPoint> series;
 };
 
