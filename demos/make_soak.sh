@@ -1,0 +1,30 @@
+#!/usr/bin/env bash
+# The long soak (issue 6): a million steps of the 30-link chain and of the spider, with and without the stabilizer,
+# each in its own process (so resident memory is per run). About five minutes on two cores. Writes the results into
+# README.md between <!-- soak:begin --> and <!-- soak:end -->.
+#   bash demos/make_soak.sh [steps]
+set -euo pipefail
+cd "$(dirname "$0")/.."
+steps=${1:-1000000}
+cmake -S . -B build -DCMAKE_BUILD_TYPE=Release >/dev/null
+cmake --build build -j2 --target quathinge-compare
+models=${QUATHINGE_MODELS_DIR:-../shared/models}
+out=demos/out/soak
+mkdir -p "$out"
+: >"$out/soak.txt"
+for run in "chain30 quaternion" "chain30 quaternion+stab" "spider quaternion" "spider quaternion+stab"; do
+  set -- $run
+  ./build/demos/quathinge-compare -s "$1" -k "$2" --soak "$steps" -j1 --models "$models" -o "$out/$1-$2" \
+    | grep " steps " >>"$out/soak.txt"
+done
+/usr/bin/python3 - "$out/soak.txt" <<'PY'
+import re, sys
+lines = open(sys.argv[1]).read().strip()
+block = ("<!-- soak:begin -->\n```\n" + lines + "\n```\n<!-- soak:end -->")
+text = open("README.md").read()
+text, n = re.subn(r"<!-- soak:begin -->.*?<!-- soak:end -->", lambda _: block, text, flags=re.S)
+if n != 1:
+    raise SystemExit("README has no soak block")
+open("README.md", "w").write(text)
+print(lines)
+PY
