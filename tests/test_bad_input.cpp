@@ -45,6 +45,7 @@ TEST(BadInput, ConstructorsRefuseBadArguments)
 	expectRefused([&] { btQuaternionHingeConstraint j(s.a, s.a, o, o, z, z); }, "rbB");
 	expectRefused([&] { btQuaternionHingeConstraint j(s.a, s.b, btVector3(kNaN, 0, 0), o, z, z); }, "pivotInA");
 	expectRefused([&] { btQuaternionHingeConstraint j(s.a, s.b, o, btVector3(0, kInf, 0), z, z); }, "pivotInB");
+	expectRefused([&] { btQuaternionHingeConstraint j(s.a, s.b, btVector3(btScalar(3e38), 0, 0), o, z, z); }, "pivotInA");
 	expectRefused([&] { btQuaternionHingeConstraint j(s.a, s.b, o, o, btVector3(0, 0, 0), z); }, "axisInA");
 	expectRefused([&] { btQuaternionHingeConstraint j(s.a, s.b, o, o, z, btVector3(0, 0, 2)); }, "axisInB");
 	expectRefused([&] { btQuaternionHingeConstraint j(s.a, o, btVector3(kNaN, 0, 1)); }, "axisInA");
@@ -96,6 +97,13 @@ TEST(BadInput, SettersRefuseBadArgumentsAndKeepTheJointUnchanged)
 	btVector3 zero(0, 0, 0);
 	expectRefused([&] { j.setAxis(zero); }, "axisInA");
 	expectRefused([&] { j.setMultiTurnAngle(kNaN); }, "angle");
+	// magnitudes the solver cannot carry in float (found by the fuzzer): pivots beyond 1e6 m, angles beyond 1e6 rad,
+	// springs above 1e6 Hz
+	expectRefused([&] { j.setFrames(btTransform(btQuaternion::getIdentity(), btVector3(0, btScalar(2e6), 0)), btTransform::getIdentity()); }, "frameA");
+	expectRefused([&] { j.setSpring(btScalar(1e26), 1, 1); }, "restAngle");
+	expectRefused([&] { j.setSpring(0, btScalar(2e6), 1); }, "frequencyHz");
+	expectRefused([&] { j.setServoTarget(btScalar(-3e6)); }, "targetAngle");
+	expectRefused([&] { j.setLimit(btScalar(-2e6), 0); }, "low");
 	const btQuaternionHingeSettings& after = j.getSettings();
 	EXPECT_EQ(after.lowerLimit, before.lowerLimit);
 	EXPECT_EQ(after.upperLimit, before.upperLimit);
@@ -134,6 +142,27 @@ TEST(BadInput, NaNVelocityFromOutsideDisablesTheJointInsteadOfSpreading)
 	world.step(1);
 	EXPECT_EQ(joint->getFault(), BT_QHINGE_FAULT_NONE);
 	EXPECT_EQ(joint->getNumRowsLastStep(), 5);
+}
+
+TEST(BadInput, AbsurdBodyStateDisablesTheJoint)
+{
+	// A body at 2e38 m or with a non-finite inverse inertia (a 1e-38 kg body) is state the rows cannot carry: no rows,
+	// the joint disables itself and says why (cases found by the fuzzer).
+	Bodies s;
+	s.b.setWorldTransform(btTransform(btQuaternion::getIdentity(), btVector3(btScalar(2e38), 0, 0)));
+	btQuaternionHingeConstraint far(s.a, s.b, btTransform::getIdentity(), btTransform::getIdentity());
+	btTypedConstraint::btConstraintInfo1 info;
+	far.getInfo1(&info);
+	EXPECT_EQ(info.m_numConstraintRows, 0);
+	EXPECT_EQ(far.getFault(), BT_QHINGE_FAULT_NONFINITE_BODY_STATE);
+	btBoxShape shape(btVector3(1, 1, 1));
+	btVector3 tiny;
+	shape.calculateLocalInertia(btScalar(1e-38), tiny);
+	btRigidBody feather(btScalar(1e-38), nullptr, &shape, tiny);
+	btQuaternionHingeConstraint light(s.a, feather, btTransform::getIdentity(), btTransform::getIdentity());
+	light.getInfo1(&info);
+	EXPECT_EQ(info.m_numConstraintRows, 0);
+	EXPECT_FALSE(light.isEnabled());
 }
 
 TEST(BadInput, FrameEditedThroughAReferenceIsCheckedBeforeTheSolve)

@@ -36,6 +36,12 @@ btVector3 hingeAngleGradient(const btQuaternion& q)
 	return btVector3((w * y + z * x) * inv, (z * y - w * x) * inv, btScalar(1));
 }
 
+btVector3 axialRowDirection(const btQuaternion& q)
+{
+	const btScalar c2 = q.w() * q.w() + q.z() * q.z();
+	return c2 >= btScalar(0.5) ? hingeAngleGradient(q) : btVector3(0, 0, 1);
+}
+
 btScalar nearestBranch(btScalar raw, btScalar low, btScalar high)
 {
 	const bool lowFinite = std::isfinite(low), highFinite = std::isfinite(high);

@@ -28,6 +28,12 @@ btScalar hingeAngle(const btQuaternion& q);
 /// ∂θ/∂Ω in joint frame A (see above); ẑ when the axes are exactly flipped (θ undefined there).
 btVector3 hingeAngleGradient(const btQuaternion& q);
 
+/// The direction of the axial (limit, drive, friction) rows in joint frame A: the exact gradient t while the axes are
+/// within 90° (q0² + q_z² ≥ ½, where |t| ≤ √2), the hinge axis ẑ beyond. Past 90° the angle is ill-conditioned
+/// (|t| grows as 1/cos(φ/2)); the fuzzer found a spring row there whose huge Jacobian threw a body to 1e27 rad/s.
+/// The joint is then far from assembled and its quaternion rows (the log form, Q12) are what matters.
+btVector3 axialRowDirection(const btQuaternion& q);
+
 /// (Q11) the continuous update θ_k = θ_{k−1} + wrap(θ_raw − θ_{k−1}).
 inline btScalar continueAngle(btScalar previous, btScalar raw) { return previous + wrapAngle(raw - previous); }
 

@@ -33,6 +33,13 @@ void finite(const char* fn, const char* param, const btVector3& value)
 		}
 }
 
+void pivot(const char* fn, const char* param, const btVector3& value)
+{
+	finite(fn, param, value);
+	if (value.length() > kMaxPivotDistance)
+		fail(fn, (std::string(param) + " distance from the centre of mass (m)").c_str(), "must be at most 1e6", value.length());
+}
+
 btVector3 unitAxis(const char* fn, const char* param, const btVector3& axis)
 {
 	finite(fn, param, axis);
@@ -48,6 +55,7 @@ bool isRigidFrame(const btTransform& frame)
 	const btMatrix3x3& basis = frame.getBasis();
 	for (int i = 0; i < 3; ++i)
 		if (!std::isfinite(frame.getOrigin()[i])) return false;
+	if (frame.getOrigin().length() > kMaxPivotDistance) return false;
 	for (int i = 0; i < 3; ++i)
 		for (int j = 0; j < 3; ++j)
 		{
@@ -60,7 +68,7 @@ bool isRigidFrame(const btTransform& frame)
 
 void rigidFrame(const char* fn, const char* param, const btTransform& frame)
 {
-	finite(fn, (std::string(param) + " origin").c_str(), frame.getOrigin());
+	pivot(fn, (std::string(param) + " origin").c_str(), frame.getOrigin());
 	if (!isRigidFrame(frame))
 		fail(fn, (std::string(param) + " basis must be orthonormal and right-handed (a rotation)").c_str());
 }
@@ -76,6 +84,11 @@ void inRange(const char* fn, const char* param, btScalar value, btScalar lo, boo
 		what << "must be in " << (loIncluded ? "[" : "(") << lo << ", " << hi << (hiIncluded ? "]" : ")");
 		fail(fn, param, what.str().c_str(), value);
 	}
+}
+
+void angle(const char* fn, const char* param, btScalar value)
+{
+	inRange(fn, param, value, -kMaxAngle, true, kMaxAngle, true);
 }
 
 void nonNegative(const char* fn, const char* param, btScalar value)

@@ -30,16 +30,22 @@ btMatrix3x3 basisFromColumns(const btVector3& x, const btVector3& y, const btVec
 	return btMatrix3x3(x.x(), y.x(), z.x(), x.y(), y.y(), z.y(), x.z(), y.z(), z.z());
 }
 
-bool finiteVector(const btVector3& v) { return std::isfinite(v.x()) && std::isfinite(v.y()) && std::isfinite(v.z()); }
+// Largest body coordinate or speed the joint accepts (m, m/s, rad/s): beyond it differences and products of the rows
+// leave float range (the fuzzer found bodies at ±2e38 m whose pivot difference was infinite).
+const btScalar kMaxBodyState = btScalar(1e15);
 
 bool finiteBodyState(const btRigidBody& body)
 {
-	// NaN and ±∞ survive a sum (a finite overflow to ∞ would need values near 1e38: not a usable state either), so
-	// one isfinite covers the transform and both velocities.
+	// NaN survives a sum of absolute values, and ±∞ or anything near float's end makes it exceed the bound, so one
+	// comparison covers the transform and both velocities.
 	const btTransform& t = body.getCenterOfMassTransform();
-	const btVector3 sum = t.getOrigin() + t.getBasis()[0] + t.getBasis()[1] + t.getBasis()[2] +
-						  body.getLinearVelocity() + body.getAngularVelocity();
-	return finiteVector(sum);
+	const btVector3 sum = t.getOrigin().absolute() + t.getBasis()[0].absolute() + t.getBasis()[1].absolute() +
+						  t.getBasis()[2].absolute() + body.getLinearVelocity().absolute() +
+						  body.getAngularVelocity().absolute();
+	// an inverse mass or inertia that is not finite (a body of 1e-38 kg) makes every row's effective mass 0·∞
+	const btScalar inverse = body.getInvMass() + body.getInvInertiaDiagLocal().x() + body.getInvInertiaDiagLocal().y() +
+							 body.getInvInertiaDiagLocal().z();
+	return sum.x() + sum.y() + sum.z() < kMaxBodyState && inverse < kMaxBodyState;  // false for NaN as well
 }
 
 bool isStaticLike(const btRigidBody& body)
@@ -66,8 +72,8 @@ btQuaternionHingeConstraint::btQuaternionHingeConstraint(btRigidBody& rbA, btRig
 {
 	const char* fn = "btQuaternionHingeConstraint(rbA, rbB, pivotInA, pivotInB, axisInA, axisInB)";
 	checkBodies(fn, rbA, rbB);
-	check::finite(fn, "pivotInA", pivotInA);
-	check::finite(fn, "pivotInB", pivotInB);
+	check::pivot(fn, "pivotInA", pivotInA);
+	check::pivot(fn, "pivotInB", pivotInB);
 	const btVector3 axisA = check::unitAxis(fn, "axisInA", axisInA);
 	const btVector3 axisB = check::unitAxis(fn, "axisInB", axisInB);
 
@@ -105,7 +111,7 @@ btQuaternionHingeConstraint::btQuaternionHingeConstraint(btRigidBody& rbA, const
 	: btTypedConstraint(QUATERNION_HINGE_CONSTRAINT_TYPE, rbA)
 {
 	const char* fn = "btQuaternionHingeConstraint(rbA, pivotInA, axisInA)";
-	check::finite(fn, "pivotInA", pivotInA);
+	check::pivot(fn, "pivotInA", pivotInA);
 	const btVector3 axisA = check::unitAxis(fn, "axisInA", axisInA);
 
 	// As btHingeConstraint: body B is the world; its frame is A's frame as it is now, in world coordinates.
@@ -330,7 +336,7 @@ void btQuaternionHingeConstraint::setMotorTargetVelocity(btScalar motorTargetVel
 void btQuaternionHingeConstraint::setMotorTarget(btScalar targetAngle, btScalar dt)
 {
 	const char* fn = "btQuaternionHingeConstraint::setMotorTarget";
-	check::finite(fn, "targetAngle", targetAngle);
+	check::angle(fn, "targetAngle", targetAngle);
 	check::finite(fn, "dt", dt);
 	check::positive(fn, "dt", dt);
 	// As stock: clamp the target into the limit, then the velocity that gets there in dt. Stock compares with the
@@ -357,7 +363,7 @@ void btQuaternionHingeConstraint::setMotorTarget(const btQuaternion& qAinB, btSc
 void btQuaternionHingeConstraint::setServoTarget(btScalar targetAngle, btScalar maxSpeed, btScalar maxTorque)
 {
 	const char* fn = "btQuaternionHingeConstraint::setServoTarget";
-	check::finite(fn, "targetAngle", targetAngle);
+	check::angle(fn, "targetAngle", targetAngle);
 	check::positive(fn, "maxSpeed", maxSpeed);
 	check::nonNegative(fn, "maxTorque", maxTorque);
 	m_settings.servoTargetAngle = targetAngle;
@@ -369,9 +375,8 @@ void btQuaternionHingeConstraint::setServoTarget(btScalar targetAngle, btScalar 
 void btQuaternionHingeConstraint::setSpring(btScalar restAngle, btScalar frequencyHz, btScalar dampingRatio)
 {
 	const char* fn = "btQuaternionHingeConstraint::setSpring";
-	check::finite(fn, "restAngle", restAngle);
-	check::finite(fn, "frequencyHz", frequencyHz);
-	check::positive(fn, "frequencyHz", frequencyHz);
+	check::angle(fn, "restAngle", restAngle);
+	check::inRange(fn, "frequencyHz", frequencyHz, 0, false, check::kMaxSpringFrequency, true);
 	check::finite(fn, "dampingRatio", dampingRatio);
 	check::nonNegative(fn, "dampingRatio", dampingRatio);
 	m_settings.springRestAngle = restAngle;
@@ -400,6 +405,8 @@ void btQuaternionHingeConstraint::setLimit(btScalar low, btScalar high, btScalar
 	if (std::isnan(high)) check::fail(fn, "high", "must not be NaN", high);
 	if (low == SIMD_INFINITY) check::fail(fn, "low", "must be below +infinity", low);
 	if (high == -SIMD_INFINITY) check::fail(fn, "high", "must be above -infinity", high);
+	if (std::isfinite(low)) check::angle(fn, "low", low);
+	if (std::isfinite(high)) check::angle(fn, "high", high);
 	if (low > high)
 	{
 		std::ostringstream message;
@@ -474,7 +481,7 @@ btScalar btQuaternionHingeConstraint::getMultiTurnAngle()
 void btQuaternionHingeConstraint::setMultiTurnAngle(btScalar angle)
 {
 	const char* fn = "btQuaternionHingeConstraint::setMultiTurnAngle";
-	check::finite(fn, "angle", angle);
+	check::angle(fn, "angle", angle);
 	const btScalar raw = getHingeAngle();
 	// 1e-3 rad: generous against float round-off of the pose, far below any distinct angle a user means
 	if (btFabs(wrapAngle(angle - raw)) > btScalar(1e-3))
@@ -498,7 +505,7 @@ void btQuaternionHingeConstraint::testLimit(const btTransform& transA, const btT
 	const btScalar sigma = userSign(m_settings.useReferenceFrameA);
 	updateMultiTurnAngle(sigma * hingeAngle(m_pose.q));
 	// reach this step: the current relative speed about the axis times the last step (unknown before the first)
-	const btVector3 axis = m_pose.frameA.getBasis() * hingeAngleGradient(m_pose.q);
+	const btVector3 axis = m_pose.frameA.getBasis() * axialRowDirection(m_pose.q);
 	m_limitReach = btFabs(axis.dot(m_rbB.getAngularVelocity() - m_rbA.getAngularVelocity())) * m_lastTimeStep;
 	const LimitState limit = evaluateLimit(m_settings, m_multiTurnAngle, m_limitReach);
 	m_limitSign = limit.sign;
@@ -777,9 +784,9 @@ void btQuaternionHingeConstraint::fillRows(btConstraintInfo2* info, const btTran
 	const bool friction = m_settings.maxFrictionTorque > 0;
 	if (m_limitSign == 0 && !drive && !friction) return;
 
-	// Axis part: rows along J_α = σ R_A t (HingeAngle.h: exact gradient of the angle).
+	// Axis part: rows along J_α = σ R_A t (HingeAngle.h: the exact gradient of the angle within 90° of assembly).
 	const btScalar sigma = userSign(m_settings.useReferenceFrameA);
-	const btVector3 axis = sigma * (pose.frameA.getBasis() * hingeAngleGradient(pose.q));
+	const btVector3 axis = sigma * (pose.frameA.getBasis() * axialRowDirection(pose.q));
 	const btScalar rate = axis.dot(angVelB - angVelA);
 	const btScalar normalErp = rowErp(kAxialKind, info->erp);
 	auto emit = [&](const AxialRow& axial, bool setCfm, btScalar cfm) {
