@@ -11,6 +11,17 @@
 
 function(quathinge_find_bullet)
   if(TARGET QuatHinge::Bullet)
+    # Made earlier in this project (it is GLOBAL): a second call may not ask for the other precision.
+    get_target_property(_defs QuatHinge::Bullet INTERFACE_COMPILE_DEFINITIONS)
+    set(_have_double OFF)
+    if("BT_USE_DOUBLE_PRECISION" IN_LIST _defs)
+      set(_have_double ON)
+    endif()
+    if((_have_double AND NOT QUATHINGE_DOUBLE_PRECISION) OR (NOT _have_double AND QUATHINGE_DOUBLE_PRECISION))
+      message(FATAL_ERROR "QuatHinge: QuatHinge::Bullet already exists with BT_USE_DOUBLE_PRECISION=${_have_double}, "
+                          "now asked for QUATHINGE_DOUBLE_PRECISION=${QUATHINGE_DOUBLE_PRECISION}: float and double "
+                          "Bullet cannot be mixed in one program.")
+    endif()
     return()
   endif()
   find_package(PkgConfig REQUIRED)
@@ -43,9 +54,12 @@ function(quathinge_find_bullet)
     set_property(TARGET QuatHinge::Bullet APPEND PROPERTY INTERFACE_COMPILE_DEFINITIONS BT_USE_DOUBLE_PRECISION)
   endif()
 
-  # The extras (BulletWorldImporter, BulletFileLoader) have no pkg-config file: look beside the core libraries.
-  find_library(_importer NAMES BulletWorldImporter${_suffix} HINTS ${QUATHINGE_PC_BULLET_LIBRARY_DIRS} NO_CACHE)
-  find_library(_loader NAMES BulletFileLoader${_suffix} HINTS ${QUATHINGE_PC_BULLET_LIBRARY_DIRS} NO_CACHE)
+  # The extras (BulletWorldImporter, BulletFileLoader) have no pkg-config file: only the same libdir as the core
+  # libraries is searched, so a different Bullet elsewhere can never be mixed in.
+  find_library(_importer NAMES BulletWorldImporter${_suffix} PATHS ${QUATHINGE_PC_BULLET_LIBRARY_DIRS}
+               NO_DEFAULT_PATH NO_CACHE)
+  find_library(_loader NAMES BulletFileLoader${_suffix} PATHS ${QUATHINGE_PC_BULLET_LIBRARY_DIRS}
+               NO_DEFAULT_PATH NO_CACHE)
   find_path(_importer_include NAMES BulletWorldImporter/btBulletWorldImporter.h
             HINTS ${QUATHINGE_PC_BULLET_INCLUDE_DIRS} NO_CACHE)
   if(_importer AND _loader AND _importer_include)
@@ -53,8 +67,9 @@ function(quathinge_find_bullet)
     set_target_properties(QuatHinge::BulletExtras PROPERTIES
       INTERFACE_INCLUDE_DIRECTORIES "${_importer_include};${_importer_include}/BulletWorldImporter"
       INTERFACE_LINK_LIBRARIES "${_importer};${_loader};QuatHinge::Bullet")
+    set(_extras "QuatHinge::BulletExtras: ${_importer}")
   else()
-    message(STATUS "QuatHinge: Bullet world importer not found (libbullet-extras-dev): .bullet scenes are skipped")
+    set(_extras "no world importer (libbullet-extras-dev): .bullet scenes are skipped")
   endif()
-  message(STATUS "QuatHinge: Bullet ${QUATHINGE_PC_BULLET_VERSION} (${_module})")
+  message(STATUS "QuatHinge: Bullet ${QUATHINGE_PC_BULLET_VERSION} (${_module}); ${_extras}")
 endfunction()

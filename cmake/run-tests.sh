@@ -1,29 +1,28 @@
 #!/usr/bin/env bash
-# README's test command: set up, build both Bullet precisions, run every test.
-#   bash cmake/run-tests.sh            float and double builds (build/, build-double/)
-#   bash cmake/run-tests.sh --asan     also an AddressSanitizer + UBSan build (build-asan/)
+# README's test command: set up, build both Bullet precisions, run every test. CI runs the same, then --asan-only.
+#   bash cmake/run-tests.sh                    float and double builds (build/, build-double/)
+#   bash cmake/run-tests.sh --asan             also the AddressSanitizer + UBSan Debug build (build-asan/)
+#   bash cmake/run-tests.sh --asan-only        only the sanitizer build
+#   bash cmake/run-tests.sh DIR [CMAKE_ARGS…]  one build: configure DIR with the extra arguments, build, ctest
 set -euo pipefail
 cd "$(dirname "$0")/.."
-bash cmake/setup-debian.sh
-
-asan=0
-for arg in "$@"; do
-  case "$arg" in
-    --asan) asan=1 ;;
-    *) echo "usage: $0 [--asan]" >&2; exit 2 ;;
-  esac
-done
 
 build_and_test() {
   local dir=$1; shift
   echo "=== $dir $*"
-  cmake -S . -B "$dir" -DQUATHINGE_WERROR=ON "$@" >/dev/null
+  cmake -S . -B "$dir" -DQUATHINGE_WERROR=ON "$@" >/dev/null   # errors and warnings still reach stderr
   cmake --build "$dir" -j2
   ctest --test-dir "$dir" --output-on-failure -j2
 }
+asan() { build_and_test build-asan -DQUATHINGE_SANITIZE=ON -DCMAKE_BUILD_TYPE=Debug; }
 
-build_and_test build
-build_and_test build-double -DQUATHINGE_DOUBLE_PRECISION=ON
-if [ "$asan" -eq 1 ]; then
-  build_and_test build-asan -DQUATHINGE_SANITIZE=ON -DCMAKE_BUILD_TYPE=Debug -DQUATHINGE_BUILD_DEMOS=ON
-fi
+bash cmake/setup-debian.sh --quick
+case "${1:-}" in
+  "" | --asan)
+    build_and_test build
+    build_and_test build-double -DQUATHINGE_DOUBLE_PRECISION=ON
+    if [ "${1:-}" = --asan ]; then asan; fi ;;
+  --asan-only) asan ;;
+  -*) echo "usage: $0 [--asan | --asan-only | DIR [CMAKE_ARGS...]]" >&2; exit 2 ;;
+  *) build_and_test "$@" ;;
+esac

@@ -1,7 +1,21 @@
 #!/usr/bin/env bash
-# Installs the Debian packages QuatHinge's build, tests, demos and reports need. Idempotent: when everything is
-# already installed it does nothing (no apt-get update), so running it before every build is cheap.
+# Installs the Debian 12 packages QuatHinge's build, tests, demos and reports need (as root, or through sudo).
+# Idempotent. Every script of the project calls it before building, so by default it is cheap: when every package is
+# already installed it does nothing at all (no apt-get update); otherwise it runs apt-get update and installs what is
+# missing.
+#   bash cmake/setup-debian.sh            as --quick (the default)
+#   bash cmake/setup-debian.sh --quick    skip apt-get when every package is installed (checked with dpkg-query)
+#   bash cmake/setup-debian.sh --update   always run apt-get update and install (refreshes the package lists)
 set -euo pipefail
+
+mode=quick
+for arg in "$@"; do
+  case "$arg" in
+    --quick) mode=quick ;;
+    --update) mode=update ;;
+    *) echo "usage: $0 [--quick|--update]" >&2; exit 2 ;;
+  esac
+done
 
 packages=(
   build-essential cmake pkg-config git
@@ -20,14 +34,21 @@ for p in "${packages[@]}"; do
     missing+=("$p")
   fi
 done
-if [ ${#missing[@]} -eq 0 ]; then
+if [ "$mode" = quick ] && [ ${#missing[@]} -eq 0 ]; then
   echo "setup-debian: all ${#packages[@]} packages present"
   exit 0
 fi
 
-sudo=""
-if [ "$(id -u)" -ne 0 ]; then sudo="sudo"; fi
-echo "setup-debian: installing ${missing[*]}"
-$sudo apt-get update -qq
-DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
+as_root=()
+if [ "$(id -u)" -ne 0 ]; then
+  command -v sudo >/dev/null || { echo "setup-debian: not root and no sudo; install: ${missing[*]:-nothing}" >&2; exit 1; }
+  as_root=(sudo)
+fi
+# env, not a variable assignment before the command: sudo would drop it.
+apt=("${as_root[@]}" env DEBIAN_FRONTEND=noninteractive apt-get)
+"${apt[@]}" update -qq
+if [ ${#missing[@]} -gt 0 ]; then
+  echo "setup-debian: installing ${missing[*]}"
+  "${apt[@]}" install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
+fi
 echo "setup-debian: done"
