@@ -16,6 +16,10 @@ build_and_test() {
 }
 asan() { build_and_test build-asan -DQUATHINGE_SANITIZE=ON -DCMAKE_BUILD_TYPE=Debug; }
 
+case "${1:-}" in
+  -* ) [[ "$1" == --asan || "$1" == --asan-only ]] ||
+       { echo "usage: $0 [--asan | --asan-only | DIR [CMAKE_ARGS...]]" >&2; exit 2; } ;;
+esac
 bash cmake/setup-debian.sh --quick
 case "${1:-}" in
   "" | --asan)
@@ -23,6 +27,5 @@ case "${1:-}" in
     build_and_test build-double -DQUATHINGE_DOUBLE_PRECISION=ON
     if [ "${1:-}" = --asan ]; then asan; fi ;;
   --asan-only) asan ;;
-  -*) echo "usage: $0 [--asan | --asan-only | DIR [CMAKE_ARGS...]]" >&2; exit 2 ;;
   *) build_and_test "$@" ;;
 esac

@@ -25,7 +25,7 @@ packages=(
   libcli11-dev nlohmann-json3-dev libfmt-dev  # the comparison demo
   liburdfdom-dev liburdfdom-headers-dev libtinyxml2-dev  # URDF scenes
   python3 python3-matplotlib                  # report plots
-  clang valgrind                              # fuzzing (libFuzzer) and memory checks
+  clang libclang-rt-14-dev llvm valgrind     # fuzzing (libFuzzer + sanitizer runtimes, symbolizer); memory checks
 )
 
 missing=()

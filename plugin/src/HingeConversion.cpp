@@ -40,7 +40,10 @@ btQuaternionHingeConstraint::btQuaternionHingeConstraint(const btHingeConstraint
 		setLimit(stock.getLowerLimit(), stock.getUpperLimit(), stock.getLimitSoftness(), stock.getLimitBiasFactor(),
 				 stock.getLimitRelaxationFactor());
 	}
-	enableAngularMotor(s.getEnableAngularMotor(), s.getMotorTargetVelocity(), s.getMaxMotorImpulse());
+	// btHingeConstraint leaves its motor's velocity and impulse uninitialized until a motor call sets them, so they
+	// are read only when its motor is on (reading them otherwise copied stray memory: a denormal negative impulse
+	// that setMaxMotorImpulse rightly refused).
+	if (s.getEnableAngularMotor()) enableAngularMotor(true, s.getMotorTargetVelocity(), s.getMaxMotorImpulse());
 
 	const int flags = stock.getFlags();
 	// Stock's normal ERP acts on every row; its normal CFM only on the motor row (axis 5).
