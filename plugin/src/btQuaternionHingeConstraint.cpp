@@ -18,8 +18,6 @@ using namespace quathinge;
 
 namespace
 {
-const char* const kClass = "btQuaternionHingeConstraint";
-
 // Row kinds for per-row ERP/CFM (setParam's axis).
 const int kLinearKind = 0;   // 0..2
 const int kAngularKind = 3;  // 3..4
@@ -225,7 +223,6 @@ void btQuaternionHingeConstraint::initFromSettings()
 	m_trackAlways = false;
 	m_framesMayHaveChanged = false;
 	m_limitSign = 0;
-	m_limitSpeculative = false;
 	m_limitReach = 0;
 	m_lastTimeStep = 0;
 	m_numRows = 0;
@@ -429,7 +426,6 @@ void btQuaternionHingeConstraint::removeLimit()
 {
 	m_settings.hasLimit = false;
 	m_limitSign = 0;
-	m_limitSpeculative = false;
 }
 
 void btQuaternionHingeConstraint::rebranchForLimit()
@@ -498,7 +494,6 @@ void btQuaternionHingeConstraint::setMultiTurnAngle(btScalar angle)
 void btQuaternionHingeConstraint::testLimit(const btTransform& transA, const btTransform& transB)
 {
 	m_limitSign = 0;
-	m_limitSpeculative = false;
 	if (!m_settings.hasLimit) return;
 	m_pose = poseAt(transA, transB);
 	m_poseCached = true;
@@ -509,7 +504,6 @@ void btQuaternionHingeConstraint::testLimit(const btTransform& transA, const btT
 	m_limitReach = btFabs(axis.dot(m_rbB.getAngularVelocity() - m_rbA.getAngularVelocity())) * m_lastTimeStep;
 	const LimitState limit = evaluateLimit(m_settings, m_multiTurnAngle, m_limitReach);
 	m_limitSign = limit.sign;
-	m_limitSpeculative = limit.speculative;
 }
 
 // ---- ERP / CFM ----------------------------------------------------------------------------------------------------------

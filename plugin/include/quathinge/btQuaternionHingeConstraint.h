@@ -301,7 +301,6 @@ private:
 	btTransform m_checkedFrameA;   // the frames as last validated: an unchanged frame needs no check
 	btTransform m_checkedFrameB;
 	int m_limitSign;               // +1 lower stop row, −1 upper stop row, 0 none (as stock's getLimitSign)
-	bool m_limitSpeculative;       // the limit row is on but the stop is not yet reached
 	btScalar m_limitReach;         // |α̇|·h at the last limit test: how far the angle can move this step
 	btScalar m_lastTimeStep;       // h of the last getInfo2 (0 before the first)
 	int m_numRows;
