@@ -40,11 +40,13 @@ TEST(Drives, ServoReachesAMultiTurnTargetAndHoldsIt)
 		fastest = std::max(fastest, std::fabs(double(w.wheel->getAngularVelocity().z())));
 	}
 	std::printf("[ figures  ] servo to 4π: final %.5f rad, fastest %.4f rad/s\n", double(w.hinge->getMultiTurnAngle()), fastest);
-	EXPECT_NEAR(w.hinge->getMultiTurnAngle(), 4 * M_PI, 1e-3);  // rad
-	EXPECT_LT(fastest, 3 + 1e-3);                                // rad/s
+	const double kHoldTol = 1e-3;   // rad: at the target (float round-off of 12.6 rad is 1e-6)
+	const double kSpeedTol = 1e-3;  // rad/s: over the speed limit
+	EXPECT_NEAR(w.hinge->getMultiTurnAngle(), 4 * M_PI, kHoldTol);
+	EXPECT_LT(fastest, 3 + kSpeedTol);
 	w.wheel->applyTorqueImpulse(btVector3(0, 0, btScalar(0.5)));  // a knock: it returns
 	w.world.step(60);
-	EXPECT_NEAR(w.hinge->getMultiTurnAngle(), 4 * M_PI, 1e-3);
+	EXPECT_NEAR(w.hinge->getMultiTurnAngle(), 4 * M_PI, kHoldTol);
 }
 
 TEST(Drives, SpringIsImplicitEulerStepByStep)
@@ -75,6 +77,8 @@ TEST(Drives, FrictionStopsASpinningBodyInThePredictedTime)
 	// Coulomb friction torque T on inertia I spinning at ω₀ stops it after I ω₀ / T (within 5%).
 	Wheel w;
 	const double torque = 0.2, omega0 = 4;
+	const double kStoppedRadPerSec = 1e-3;  // rad/s: counted as stopped
+	const double kTimeRelTol = 0.05;        // dimensionless: 5%, as specified
 	w.hinge->setMaxFrictionTorque(btScalar(torque));
 	w.wheel->setAngularVelocity(btVector3(0, 0, btScalar(omega0)));
 	const double expected = w.inertiaZ() * omega0 / torque;
@@ -82,10 +86,10 @@ TEST(Drives, FrictionStopsASpinningBodyInThePredictedTime)
 	for (int i = 1; i <= 600 && stopped < 0; ++i)
 	{
 		w.world.step();
-		if (std::fabs(double(w.wheel->getAngularVelocity().z())) < 1e-3) stopped = i / 60.0;
+		if (std::fabs(double(w.wheel->getAngularVelocity().z())) < kStoppedRadPerSec) stopped = i / 60.0;
 	}
 	std::printf("[ figures  ] friction stop: %.4f s (predicted %.4f s)\n", stopped, expected);
-	EXPECT_NEAR(stopped, expected, 0.05 * expected);
+	EXPECT_NEAR(stopped, expected, kTimeRelTol * expected);
 }
 
 TEST(Drives, VelocityMotorReachesItsSpeedWithinItsImpulse)
@@ -95,7 +99,9 @@ TEST(Drives, VelocityMotorReachesItsSpeedWithinItsImpulse)
 	w.hinge->enableAngularMotor(true, 2, btScalar(0.01));
 	w.world.step(1);
 	const double dv = double(w.wheel->getAngularVelocity().z());
-	EXPECT_NEAR(dv, 0.01 / w.inertiaZ(), 1e-4);
+	const double kVelocityTol = 1e-4;  // rad/s: float round-off of one impulse / inertia
+	EXPECT_NEAR(dv, 0.01 / w.inertiaZ(), kVelocityTol);
 	w.world.step(600);
-	EXPECT_NEAR(w.wheel->getAngularVelocity().z(), 2, 1e-3);
+	const double kTargetTol = 1e-3;  // rad/s: at its target speed
+	EXPECT_NEAR(w.wheel->getAngularVelocity().z(), 2, kTargetTol);
 }

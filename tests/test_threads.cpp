@@ -198,6 +198,13 @@ TEST(Threads, DebianBulletIsNotBuiltThreadSafe)
 	EXPECT_EQ(btGetPPLTaskScheduler(), nullptr);
 	ASSERT_NE(btGetSequentialTaskScheduler(), nullptr);
 	EXPECT_EQ(btGetSequentialTaskScheduler()->getMaxNumThreads(), 1);
+	// Without installing anything: a BT_THREADSAFE Bullet numbers each thread that asks (1, 2, …); this one answers 0
+	// on every thread.
+	unsigned otherIndex = ~0u;
+	std::thread other([&] { otherIndex = btGetCurrentThreadIndex(); });
+	other.join();
+	std::printf("[ figures  ] thread index of a second thread: %u (BT_THREADSAFE numbers it from 1)\n", otherIndex);
+	EXPECT_EQ(otherIndex, 0u) << "a second thread has its own index: Bullet is BT_THREADSAFE";
 }
 
 TEST(Threads, ChainInMultiThreadedWorldMatchesSingleThreadedWorld)

@@ -4,6 +4,7 @@
 #include "BulletDynamics/MLCPSolvers/btDantzigSolver.h"
 #include "BulletDynamics/MLCPSolvers/btMLCPSolver.h"
 
+#include <cmath>
 #include <cstring>
 
 namespace qh_test
@@ -31,6 +32,17 @@ World::World(SolverKind solver, const btVector3& gravity)
 			m_solver.reset(new btMLCPSolver(&m_extra->dantzig));
 			break;
 	}
+	m_world.reset(new btDiscreteDynamicsWorld(m_dispatcher.get(), m_broadphase.get(), m_solver.get(), m_config.get()));
+	m_world->setGravity(gravity);
+}
+
+World::World(std::unique_ptr<btConstraintSolver> solver, const btVector3& gravity)
+	: m_config(new btDefaultCollisionConfiguration),
+	  m_dispatcher(new btCollisionDispatcher(m_config.get())),
+	  m_broadphase(new btDbvtBroadphase),
+	  m_solver(std::move(solver)),
+	  m_extra(new Extra)
+{
 	m_world.reset(new btDiscreteDynamicsWorld(m_dispatcher.get(), m_broadphase.get(), m_solver.get(), m_config.get()));
 	m_world->setGravity(gravity);
 }
@@ -71,7 +83,8 @@ double misalignmentDeg(const btRigidBody& a, const btTransform& frameA, const bt
 {
 	const btVector3 za = a.getCenterOfMassTransform().getBasis() * frameA.getBasis().getColumn(2);
 	const btVector3 zb = b.getCenterOfMassTransform().getBasis() * frameB.getBasis().getColumn(2);
-	return double(za.angle(zb)) * kDeg;
+	// atan2(|za × zb|, za·zb): accurate for small angles too (acos of a dot product near 1 is not)
+	return std::atan2(double(za.cross(zb).length()), double(za.dot(zb))) * kDeg;
 }
 
 ScratchRows::ScratchRows(btScalar fps, btScalar erp)
@@ -107,6 +120,23 @@ btQuaternion expRotation(const btVector3& w)
 	const btScalar angle = w.length();
 	if (angle == 0) return btQuaternion::getIdentity();
 	return btQuaternion(w / angle, angle);
+}
+
+bool finiteState(const btRigidBody& body)
+{
+	const btTransform& t = body.getCenterOfMassTransform();
+	const btVector3 sum = t.getOrigin() + t.getBasis()[0] + t.getBasis()[1] + t.getBasis()[2] +
+						  body.getLinearVelocity() + body.getAngularVelocity();
+	return std::isfinite(double(sum.x())) && std::isfinite(double(sum.y())) && std::isfinite(double(sum.z()));
+}
+
+void placeOnHinge(btRigidBody& a, const btTransform& frameA, btRigidBody& b, const btTransform& frameB, btScalar theta)
+{
+	const btTransform turn(btQuaternion(btVector3(0, 0, 1), theta));
+	if (b.getInvMass() == 0 && a.getInvMass() != 0)
+		a.setCenterOfMassTransform(b.getCenterOfMassTransform() * frameB * turn.inverse() * frameA.inverse());
+	else
+		b.setCenterOfMassTransform(a.getCenterOfMassTransform() * frameA * turn * frameB.inverse());
 }
 
 }  // namespace qh_test

@@ -24,6 +24,8 @@ class World
 {
 public:
 	explicit World(SolverKind solver = SolverKind::SequentialImpulse, const btVector3& gravity = btVector3(0, -10, 0));
+	/// With a solver of the test's own (e.g. one that records the rows' impulses); the world owns it.
+	World(std::unique_ptr<btConstraintSolver> solver, const btVector3& gravity);
 	~World();
 	World(const World&) = delete;
 	World& operator=(const World&) = delete;
@@ -79,6 +81,14 @@ struct ScratchRows
 
 /// Rotation by the rotation vector w (axis · angle).
 btQuaternion expRotation(const btVector3& w);
+
+/// True when the body's transform and velocities are all finite.
+bool finiteState(const btRigidBody& body);
+
+/// Moves the dynamic one of the two bodies (B unless B is static) so that the joint frames coincide in position and
+/// hinge axis, with joint frame B turned by theta (rad) about the hinge axis from joint frame A: the pose of a perfect
+/// hinge at quaternion angle θ (MATH.md Q4, Q11).
+void placeOnHinge(btRigidBody& a, const btTransform& frameA, btRigidBody& b, const btTransform& frameB, btScalar theta);
 
 /// True when btScalar is double.
 constexpr bool kDouble = sizeof(btScalar) == 8;
