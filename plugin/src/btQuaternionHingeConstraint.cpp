@@ -8,6 +8,7 @@
 #include "HingeAngle.h"
 #include "InputChecks.h"
 #include "QuaternionHingeRows.h"
+#include "SolverRowBasis.h"
 
 #include "BulletDynamics/Dynamics/btRigidBody.h"
 
@@ -683,39 +684,56 @@ int btQuaternionHingeConstraint::fillBilateralRows(btConstraintInfo2* info, cons
 	const bool overrides = !rawError && m_settings.flags != 0;
 	const btScalar globalErp = rawError ? btScalar(1) : info->erp;
 
-	// Point part: C = p_B − p_A (MATH.md, "Bullet's conventions"). Ċ_i = e_i·(v_B + ω_B × r_B − v_A − ω_A × r_A), so
-	// row i is J1 = (−e_i, e_i × r_A) = (−e_i, row i of [r_A]×) and J2 = (e_i, r_B × e_i) = (e_i, row i of −[r_B]×);
-	// error −erp·fps·C (Q10). The solver hands rows in zeroed, so only non-zero entries are written.
+	// Point part: C = p_B − p_A (MATH.md, "Bullet's conventions"). Along a direction e held for the step,
+	// e·Ċ = e·(v_B + ω_B × r_B − v_A − ω_A × r_A), so the row is J1 = (−e, e × r_A), J2 = (e, r_B × e); error −erp·fps·e·C
+	// (Q10). The solver's rows use e ∈ {p, t, a} (SolverRowBasis.h: a rotation of the row space that Gauss–Seidel
+	// converges on as fast as on stock's rows); the position rows (rawError) keep world x, y, z. The solver hands rows
+	// in zeroed, so only non-zero entries are written.
+	const btVector3 rA = frameA.getOrigin() - transA.getOrigin();
+	const btVector3 rB = frameB.getOrigin() - transB.getOrigin();
+	PointRowBasis basis;
+	if (!rawError)
+		basis = pointRowBasis(frameA, frameB, transA.getOrigin(), transB.getOrigin(), m_rbA.getInvMass(), m_rbB.getInvMass());
 	if (!m_settings.angularOnly)
 	{
-		const btVector3 rA = frameA.getOrigin() - transA.getOrigin();
-		const btVector3 rB = frameB.getOrigin() - transB.getOrigin();
 		const btVector3 c = frameB.getOrigin() - frameA.getOrigin();
-		btVector3 skewA[3], skewB[3];
-		rA.getSkewSymmetricMatrix(&skewA[0], &skewA[1], &skewA[2]);
-		(-rB).getSkewSymmetricMatrix(&skewB[0], &skewB[1], &skewB[2]);
+		static const btVector3 kWorld[3] = {btVector3(1, 0, 0), btVector3(0, 1, 0), btVector3(0, 0, 1)};
 		for (int i = 0; i < 3; ++i, ++row)
 		{
+			const btVector3& e = rawError ? kWorld[i] : (i == 0 ? basis.p : i == 1 ? basis.t : basis.a);
 			const int at = row * skip;
-			info->m_J1linearAxis[at + i] = -1;
-			info->m_J2linearAxis[at + i] = 1;
+			const btVector3 angularA = e.cross(rA), angularB = rB.cross(e);
 			for (int k = 0; k < 3; ++k)
 			{
-				info->m_J1angularAxis[at + k] = skewA[i][k];
-				info->m_J2angularAxis[at + k] = skewB[i][k];
+				info->m_J1linearAxis[at + k] = -e[k];
+				info->m_J2linearAxis[at + k] = e[k];
+				info->m_J1angularAxis[at + k] = angularA[k];
+				info->m_J2angularAxis[at + k] = angularB[k];
 			}
 			const btScalar erp = overrides ? rowErp(kLinearKind + i, globalErp) : globalErp;
-			info->m_constraintError[at] = -erp * info->fps * c[i];
+			info->m_constraintError[at] = -erp * info->fps * e.dot(c);
 			if (overrides && (m_settings.flags & (BT_QHINGE_FLAGS_CFM_ROW0 << (kLinearKind + i))))
 				info->cfm[at] = m_settings.rowCfm[kLinearKind + i];
 		}
 	}
 
-	// Quaternion part (Q7, Q9, Q10; the log form beyond 90°, Q12): body A −g, body B +g, error −erp·fps·C.
+	// Quaternion part (Q7, Q9, Q10; the log form beyond 90°, Q12): body A −g, body B +g, error −erp·fps·C; for the
+	// solver turned within the part's plane so the first row lies along p (SolverRowBasis.h).
 	AngularRows angular;
 	computeAngularRows(frameA.getBasis(), q, angular);
-	const btVector3* axes[2] = {&angular.rowU, &angular.rowV};
-	const btScalar errors[2] = {angular.errorU, angular.errorV};
+	btVector3 rowU = angular.rowU, rowV = angular.rowV;
+	btScalar errorU = angular.errorU, errorV = angular.errorV;
+	if (!rawError)
+	{
+		btScalar cosPsi, sinPsi;
+		quaternionRowTurn(frameA.getBasis().transpose() * basis.p, q, cosPsi, sinPsi);
+		rowU = cosPsi * angular.rowU + sinPsi * angular.rowV;
+		rowV = cosPsi * angular.rowV - sinPsi * angular.rowU;
+		errorU = cosPsi * angular.errorU + sinPsi * angular.errorV;
+		errorV = cosPsi * angular.errorV - sinPsi * angular.errorU;
+	}
+	const btVector3* axes[2] = {&rowU, &rowV};
+	const btScalar errors[2] = {errorU, errorV};
 	for (int j = 0; j < 2; ++j, ++row)
 	{
 		const int at = row * skip;
