@@ -671,6 +671,32 @@ void btQuaternionHingeConstraint::getInfo2NonVirtual(btConstraintInfo2* info, co
 	fillRows(info, transA, transB, angVelA, angVelB);
 }
 
+namespace
+{
+// One row's Jacobian: J1 = (linA, angA), J2 = (linB, angB), at offset `at` of the solver's arrays (straight-line
+// stores: the entries are independent of each other, and of the joint, so nothing is re-read after a store).
+inline void writeRow(btTypedConstraint::btConstraintInfo2* info, int at, const btVector3& linB, const btVector3& angA,
+					 const btVector3& angB)
+{
+	btScalar* j1l = info->m_J1linearAxis + at;
+	btScalar* j1a = info->m_J1angularAxis + at;
+	btScalar* j2l = info->m_J2linearAxis + at;
+	btScalar* j2a = info->m_J2angularAxis + at;
+	j1l[0] = -linB.x(), j1l[1] = -linB.y(), j1l[2] = -linB.z();
+	j2l[0] = linB.x(), j2l[1] = linB.y(), j2l[2] = linB.z();
+	j1a[0] = angA.x(), j1a[1] = angA.y(), j1a[2] = angA.z();
+	j2a[0] = angB.x(), j2a[1] = angB.y(), j2a[2] = angB.z();
+}
+
+inline void writeAngularRow(btTypedConstraint::btConstraintInfo2* info, int at, const btVector3& g)
+{
+	btScalar* j1a = info->m_J1angularAxis + at;
+	btScalar* j2a = info->m_J2angularAxis + at;
+	j1a[0] = -g.x(), j1a[1] = -g.y(), j1a[2] = -g.z();
+	j2a[0] = g.x(), j2a[1] = g.y(), j2a[2] = g.z();
+}
+}  // namespace
+
 int btQuaternionHingeConstraint::fillBilateralRows(btConstraintInfo2* info, const btTransform& transA,
 												  const btTransform& transB, const btTransform& frameA,
 												  const btTransform& frameB, const btQuaternion& q, bool rawError) const
@@ -678,42 +704,43 @@ int btQuaternionHingeConstraint::fillBilateralRows(btConstraintInfo2* info, cons
 	// frameA, frameB: the joint frames in world; q = a* ⊗ b (Q2). rawError: constraintError = −C exactly (erp = fps =
 	// 1 and no per-row ERP), for computePositionRows.
 	const int skip = info->rowskip;
-	int row = 0;
-
+	const bool angularOnly = m_settings.angularOnly;
+	const btScalar erpFps = rawError ? btScalar(1) : info->erp * info->fps;
 	// Per-row ERP/CFM only when some override is set (the common case writes one ERP and leaves CFM alone).
 	const bool overrides = !rawError && m_settings.flags != 0;
-	const btScalar globalErp = rawError ? btScalar(1) : info->erp;
+	auto errorScale = [&](int kind) { return overrides ? rowErp(kind, info->erp) * info->fps : erpFps; };
+	auto rowCfmOverride = [&](int kind, int at) {
+		if (overrides && (m_settings.flags & (BT_QHINGE_FLAGS_CFM_ROW0 << kind))) info->cfm[at] = m_settings.rowCfm[kind];
+	};
 
 	// Point part: C = p_B − p_A (MATH.md, "Bullet's conventions"). Along a direction e held for the step,
 	// e·Ċ = e·(v_B + ω_B × r_B − v_A − ω_A × r_A), so the row is J1 = (−e, e × r_A), J2 = (e, r_B × e); error −erp·fps·e·C
 	// (Q10). The solver's rows use e ∈ {p, t, a} (SolverRowBasis.h: a rotation of the row space that Gauss–Seidel
 	// converges on as fast as on stock's rows); the position rows (rawError) keep world x, y, z. The solver hands rows
-	// in zeroed, so only non-zero entries are written.
+	// in zeroed; every entry of a row is written all the same (straight-line stores are cheaper than skipping zeros).
 	const btVector3 rA = frameA.getOrigin() - transA.getOrigin();
 	const btVector3 rB = frameB.getOrigin() - transB.getOrigin();
 	PointRowBasis basis;
-	if (!rawError)
-		basis = pointRowBasis(frameA, frameB, transA.getOrigin(), transB.getOrigin(), m_rbA.getInvMass(), m_rbB.getInvMass());
-	if (!m_settings.angularOnly)
+	if (rawError)
+	{
+		basis.p = btVector3(1, 0, 0);
+		basis.t = btVector3(0, 1, 0);
+		basis.a = btVector3(0, 0, 1);
+	}
+	else
+		basis = pointRowBasis(frameA.getBasis(), rA, rB, m_rbA.getInvMass(), m_rbB.getInvMass());
+	int row = 0;
+	if (!angularOnly)
 	{
 		const btVector3 c = frameB.getOrigin() - frameA.getOrigin();
-		static const btVector3 kWorld[3] = {btVector3(1, 0, 0), btVector3(0, 1, 0), btVector3(0, 0, 1)};
+		const btVector3* directions[3] = {&basis.p, &basis.t, &basis.a};
 		for (int i = 0; i < 3; ++i, ++row)
 		{
-			const btVector3& e = rawError ? kWorld[i] : (i == 0 ? basis.p : i == 1 ? basis.t : basis.a);
+			const btVector3& e = *directions[i];
 			const int at = row * skip;
-			const btVector3 angularA = e.cross(rA), angularB = rB.cross(e);
-			for (int k = 0; k < 3; ++k)
-			{
-				info->m_J1linearAxis[at + k] = -e[k];
-				info->m_J2linearAxis[at + k] = e[k];
-				info->m_J1angularAxis[at + k] = angularA[k];
-				info->m_J2angularAxis[at + k] = angularB[k];
-			}
-			const btScalar erp = overrides ? rowErp(kLinearKind + i, globalErp) : globalErp;
-			info->m_constraintError[at] = -erp * info->fps * e.dot(c);
-			if (overrides && (m_settings.flags & (BT_QHINGE_FLAGS_CFM_ROW0 << (kLinearKind + i))))
-				info->cfm[at] = m_settings.rowCfm[kLinearKind + i];
+			writeRow(info, at, e, e.cross(rA), rB.cross(e));
+			info->m_constraintError[at] = -errorScale(kLinearKind + i) * e.dot(c);
+			rowCfmOverride(kLinearKind + i, at);
 		}
 	}
 
@@ -721,33 +748,16 @@ int btQuaternionHingeConstraint::fillBilateralRows(btConstraintInfo2* info, cons
 	// solver turned within the part's plane so the first row lies along p (SolverRowBasis.h).
 	AngularRows angular;
 	computeAngularRows(frameA.getBasis(), q, angular);
-	btVector3 rowU = angular.rowU, rowV = angular.rowV;
-	btScalar errorU = angular.errorU, errorV = angular.errorV;
-	if (!rawError)
-	{
-		btScalar cosPsi, sinPsi;
-		quaternionRowTurn(frameA.getBasis().transpose() * basis.p, q, cosPsi, sinPsi);
-		rowU = cosPsi * angular.rowU + sinPsi * angular.rowV;
-		rowV = cosPsi * angular.rowV - sinPsi * angular.rowU;
-		errorU = cosPsi * angular.errorU + sinPsi * angular.errorV;
-		errorV = cosPsi * angular.errorV - sinPsi * angular.errorU;
-	}
-	const btVector3* axes[2] = {&rowU, &rowV};
-	const btScalar errors[2] = {errorU, errorV};
-	for (int j = 0; j < 2; ++j, ++row)
-	{
-		const int at = row * skip;
-		const int kind = kAngularKind + j;
-		for (int k = 0; k < 3; ++k)
-		{
-			info->m_J1angularAxis[at + k] = -(*axes[j])[k];
-			info->m_J2angularAxis[at + k] = (*axes[j])[k];
-		}
-		const btScalar erp = overrides ? rowErp(kind, globalErp) : globalErp;
-		info->m_constraintError[at] = -erp * info->fps * errors[j];
-		if (overrides && (m_settings.flags & (BT_QHINGE_FLAGS_CFM_ROW0 << kind))) info->cfm[at] = m_settings.rowCfm[kind];
-	}
-	return row;
+	btScalar cosPsi = 1, sinPsi = 0;
+	if (!rawError) quaternionRowTurn(angular.rowU, angular.rowV, basis.p, cosPsi, sinPsi);
+	const int atU = row * skip, atV = atU + skip;
+	writeAngularRow(info, atU, cosPsi * angular.rowU + sinPsi * angular.rowV);
+	writeAngularRow(info, atV, cosPsi * angular.rowV - sinPsi * angular.rowU);
+	info->m_constraintError[atU] = -errorScale(kAngularKind) * (cosPsi * angular.errorU + sinPsi * angular.errorV);
+	info->m_constraintError[atV] = -errorScale(kAngularKind + 1) * (cosPsi * angular.errorV - sinPsi * angular.errorU);
+	rowCfmOverride(kAngularKind, atU);
+	rowCfmOverride(kAngularKind + 1, atV);
+	return row + 2;
 }
 
 int btQuaternionHingeConstraint::computePositionRows(const btTransform& transA, const btTransform& transB, btScalar* C,
@@ -787,8 +797,9 @@ void btQuaternionHingeConstraint::fillRows(btConstraintInfo2* info, const btTran
 {
 	if (m_numRows == 0) return;
 	m_lastTimeStep = btScalar(1) / info->fps;
-	const Pose pose = m_poseCached ? m_pose : poseAt(transA, transB);
-	m_poseCached = false;
+	if (!m_poseCached) m_pose = poseAt(transA, transB);
+	m_poseCached = false;  // the cache belongs to this getInfo1/getInfo2 pair
+	const Pose& pose = m_pose;
 	int row = fillBilateralRows(info, transA, transB, pose.frameA, pose.frameB, pose.q, false);
 	const int skip = info->rowskip;
 
