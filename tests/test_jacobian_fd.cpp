@@ -457,3 +457,80 @@ TEST(JacobianFiniteDifference, AxialRowsAreTheDerivativeOfTheUserAngle)
 	EXPECT_GE(checked, 100);
 	EXPECT_LT(worst, kFdRelTol);
 }
+
+TEST(JacobianFiniteDifference, PositionRowsForStabilizersAreTheDerivativeOfTheirValues)
+{
+	// computePositionRows (the post-stabilizer's C and J, unrotated, world axes): C against p_B − p_A and the
+	// independent Q4/Q12 value, J against central differences of that C (Richardson), over seeded random poses.
+	std::mt19937 rng(29);
+	std::uniform_real_distribution<double> u(-1, 1);
+	btBoxShape shape(btVector3(btScalar(0.1), btScalar(0.5), btScalar(0.1)));
+	double worst = 0, worstValue = 0;
+	int checked = 0;
+	for (int trial = 0; trial < 120; ++trial)
+	{
+		btRigidBody a(1, nullptr, &shape, btVector3(1, 1, 1)), b(1, nullptr, &shape, btVector3(1, 1, 1));
+		const btTransform frameA(randomUnit(rng), btVector3(btScalar(u(rng)), btScalar(u(rng)), btScalar(u(rng))));
+		const btTransform frameB(randomUnit(rng), btVector3(btScalar(u(rng)), btScalar(u(rng)), btScalar(u(rng))));
+		const btTransform poseA(randomUnit(rng), btVector3(btScalar(u(rng)), btScalar(u(rng)), btScalar(u(rng))));
+		const btQuaternion fbWorld = configurationB(rng, poseA.getRotation() * frameA.getRotation(), trial);
+		const btTransform poseB(fbWorld * frameB.getRotation().inverse(),
+								btVector3(btScalar(u(rng)), btScalar(u(rng)), btScalar(u(rng))));
+		btQuaternionHingeConstraint joint(a, b, frameA, frameB, trial % 2 == 0);
+		const bool angularOnly = trial % 4 == 3;
+		joint.setAngularOnly(angularOnly);
+		const btTransform& fA = joint.getAFrame();
+		const btTransform& fB = joint.getBFrame();
+		const btQuaternion qa = (poseA * fA).getRotation(), qb = (poseB * fB).getRotation();
+		if (nearNonDifferentiable(swingOf(qa, qb))) continue;
+		btScalar c0[5], jac[60];
+		const int n = joint.computePositionRows(poseA, poseB, c0, jac);
+		ASSERT_EQ(n, angularOnly ? 2 : 5);
+		// the value
+		std::vector<double> expected;
+		if (!angularOnly)
+		{
+			const btVector3 c = poseB * fB.getOrigin() - poseA * fA.getOrigin();
+			for (int i = 0; i < 3; ++i) expected.push_back(c[i]);
+		}
+		AngularRows independent;
+		computeAngularRows(qa, qb, independent);
+		// the same equation up to the quaternion's sign (Q3), aligned by the rows' direction
+		const double sign = independent.rowU.dot(btVector3(jac[12 * (n - 2) + 9], jac[12 * (n - 2) + 10], jac[12 * (n - 2) + 11])) < 0 ? -1 : 1;
+		expected.push_back(sign * independent.errorU);
+		expected.push_back(sign * independent.errorV);
+		for (int r = 0; r < n; ++r) worstValue = std::max(worstValue, relError(c0[r], expected[size_t(r)]));
+		// the derivative, per coordinate of (v_A, ω_A, v_B, ω_B)
+		const double eps = stepFor(swingOf(qa, qb));
+		for (int col = 0; col < 12; ++col)
+		{
+			auto value = [&](double h, int r) {
+				btTransform ta = poseA, tb = poseB;
+				btTransform& t = col < 6 ? ta : tb;
+				btVector3 d(0, 0, 0);
+				d[col % 3] = btScalar(h);
+				if (col % 6 < 3) t.setOrigin(t.getOrigin() + d);
+				else t.setRotation(expRotation(d) * t.getRotation());
+				btScalar c[5], j[60];
+				joint.computePositionRows(ta, tb, c, j);
+				// Q3: keep the base pose's sign of the quaternion rows
+				const btVector3 gB(j[12 * (n - 2) + 9], j[12 * (n - 2) + 10], j[12 * (n - 2) + 11]);
+				const btVector3 gBase(jac[12 * (n - 2) + 9], jac[12 * (n - 2) + 10], jac[12 * (n - 2) + 11]);
+				const double flip = (r >= n - 2 && gB.dot(gBase) < 0) ? -1 : 1;
+				return flip * double(c[r]);
+			};
+			for (int r = 0; r < n; ++r)
+			{
+				const double fd = centralDifference([&](double h) { return value(h, r); }, eps);
+				worst = std::max(worst, relError(fd, jac[12 * r + col]));
+			}
+		}
+		++checked;
+	}
+	std::printf("[ figures  ] position rows (computePositionRows) vs FD: worst relative error %.3g over %d joints; C vs "
+				"p_B − p_A and Q4: %.3g\n",
+				worst, checked, worstValue);
+	EXPECT_GE(checked, 100);
+	EXPECT_LT(worst, kFdRelTol);
+	EXPECT_LT(worstValue, kRecoverTol);
+}

@@ -1,6 +1,8 @@
 // The hinge angle and the multi-turn angle (MATH.md Q11). Derivation: HingeAngle.h.
 #include "HingeAngle.h"
 
+#include "QuaternionHingeRows.h"
+
 #include <cmath>
 
 namespace quathinge
@@ -38,8 +40,7 @@ btVector3 hingeAngleGradient(const btQuaternion& q)
 
 btVector3 axialRowDirection(const btQuaternion& q)
 {
-	const btScalar c2 = q.w() * q.w() + q.z() * q.z();
-	return c2 >= btScalar(0.5) ? hingeAngleGradient(q) : btVector3(0, 0, 1);
+	return beyondQuarterTurn(q) ? btVector3(0, 0, 1) : hingeAngleGradient(q);
 }
 
 btScalar nearestBranch(btScalar raw, btScalar low, btScalar high)

@@ -7,9 +7,6 @@ namespace quathinge
 {
 namespace
 {
-// Below this c² = q0² + q_z² (axes more than 90° apart) the swing-logarithm form is used (header, Q12).
-const btScalar kLogFormBelowC2 = btScalar(0.5);
-
 struct SwingPolar
 {
 	btScalar s;    // |(q_x, q_y)| = sin(φ/2)
@@ -33,8 +30,7 @@ void rowsInFrameA(const btQuaternion& q, btVector3& gu, btVector3& gv, btScalar&
 	// (Q7) q0 x̂ + q_v × x̂ and q0 ŷ + q_v × ŷ; with the Q9 factor 2 the ½ of Q7 cancels.
 	const btVector3 hu(w, z, -y);
 	const btVector3 hv(-z, w, x);
-	const btScalar c2 = w * w + z * z;
-	logForm = c2 < kLogFormBelowC2;
+	logForm = beyondQuarterTurn(q);  // the swing-logarithm form past 90° (header, Q12)
 	if (!logForm)
 	{
 		gu = hu;  // (Q7, Q9)

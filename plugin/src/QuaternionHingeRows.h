@@ -38,6 +38,10 @@ struct AngularRows
 	bool logForm;        ///< the swing-logarithm form was used (axes more than 90° apart)
 };
 
+/// The Q12 switch, shared by the rows and the axial row direction (HingeAngle.h): the two hinge axes are more than
+/// 90° apart, c² = q0² + q_z² = cos²(φ/2) < ½.
+inline bool beyondQuarterTurn(const btQuaternion& q) { return q.w() * q.w() + q.z() * q.z() < btScalar(0.5); }
+
 /// (Q2) q = a* ⊗ b.
 inline btQuaternion relativeQuaternion(const btQuaternion& a, const btQuaternion& b) { return a.inverse() * b; }
 

@@ -699,15 +699,14 @@ inline void writeAngularRow(btTypedConstraint::btConstraintInfo2* info, int at, 
 
 int btQuaternionHingeConstraint::fillBilateralRows(btConstraintInfo2* info, const btTransform& transA,
 												  const btTransform& transB, const btTransform& frameA,
-												  const btTransform& frameB, const btQuaternion& q, bool rawError) const
+												  const btTransform& frameB, const btQuaternion& q) const
 {
-	// frameA, frameB: the joint frames in world; q = a* ⊗ b (Q2). rawError: constraintError = −C exactly (erp = fps =
-	// 1 and no per-row ERP), for computePositionRows.
+	// frameA, frameB: the joint frames in world; q = a* ⊗ b (Q2).
 	const int skip = info->rowskip;
 	const bool angularOnly = m_settings.angularOnly;
-	const btScalar erpFps = rawError ? btScalar(1) : info->erp * info->fps;
+	const btScalar erpFps = info->erp * info->fps;
 	// Per-row ERP/CFM only when some override is set (the common case writes one ERP and leaves CFM alone).
-	const bool overrides = !rawError && m_settings.flags != 0;
+	const bool overrides = m_settings.flags != 0;
 	auto errorScale = [&](int kind) { return overrides ? rowErp(kind, info->erp) * info->fps : erpFps; };
 	auto rowCfmOverride = [&](int kind, int at) {
 		if (overrides && (m_settings.flags & (BT_QHINGE_FLAGS_CFM_ROW0 << kind))) info->cfm[at] = m_settings.rowCfm[kind];
@@ -715,20 +714,13 @@ int btQuaternionHingeConstraint::fillBilateralRows(btConstraintInfo2* info, cons
 
 	// Point part: C = p_B − p_A (MATH.md, "Bullet's conventions"). Along a direction e held for the step,
 	// e·Ċ = e·(v_B + ω_B × r_B − v_A − ω_A × r_A), so the row is J1 = (−e, e × r_A), J2 = (e, r_B × e); error −erp·fps·e·C
-	// (Q10). The solver's rows use e ∈ {p, t, a} (SolverRowBasis.h: a rotation of the row space that Gauss–Seidel
-	// converges on as fast as on stock's rows); the position rows (rawError) keep world x, y, z. The solver hands rows
-	// in zeroed; every entry of a row is written all the same (straight-line stores are cheaper than skipping zeros).
+	// (Q10), with e ∈ {p, t, a} (SolverRowBasis.h: a rotation of the row space that Gauss–Seidel converges on as fast
+	// as on stock's rows; computePositionRows keeps world x, y, z). The solver hands rows in zeroed; every entry of a
+	// row is written all the same (straight-line stores are cheaper than skipping zeros).
 	const btVector3 rA = frameA.getOrigin() - transA.getOrigin();
 	const btVector3 rB = frameB.getOrigin() - transB.getOrigin();
-	PointRowBasis basis;
-	if (rawError)
-	{
-		basis.p = btVector3(1, 0, 0);
-		basis.t = btVector3(0, 1, 0);
-		basis.a = btVector3(0, 0, 1);
-	}
-	else
-		basis = pointRowBasis(frameA.getBasis(), rA, rB, m_rbA.getInvMass(), m_rbB.getInvMass());
+	const PointRowBasis basis =
+		pointRowBasis(frameA.getBasis(), rA, rB, m_rbA.getInvMass(), m_rbB.getInvMass());
 	int row = 0;
 	if (!angularOnly)
 	{
@@ -748,8 +740,8 @@ int btQuaternionHingeConstraint::fillBilateralRows(btConstraintInfo2* info, cons
 	// solver turned within the part's plane so the first row lies along p (SolverRowBasis.h).
 	AngularRows angular;
 	computeAngularRows(frameA.getBasis(), q, angular);
-	btScalar cosPsi = 1, sinPsi = 0;
-	if (!rawError) quaternionRowTurn(angular.rowU, angular.rowV, basis.p, cosPsi, sinPsi);
+	btScalar cosPsi, sinPsi;
+	quaternionRowTurn(angular.rowU, angular.rowV, basis.p, cosPsi, sinPsi);
 	const int atU = row * skip, atV = atU + skip;
 	writeAngularRow(info, atU, cosPsi * angular.rowU + sinPsi * angular.rowV);
 	writeAngularRow(info, atV, cosPsi * angular.rowV - sinPsi * angular.rowU);
@@ -763,30 +755,46 @@ int btQuaternionHingeConstraint::fillBilateralRows(btConstraintInfo2* info, cons
 int btQuaternionHingeConstraint::computePositionRows(const btTransform& transA, const btTransform& transB, btScalar* C,
 													 btScalar* jacobian) const
 {
-	// Rows written through the solver's own layout: 12 values per row, J1 linear/angular then J2 linear/angular.
-	const int stride = 16;  // rowskip of the scratch rows (≥ 12)
-	btScalar scratch[5 * stride] = {};
-	btScalar error[5 * stride] = {};
-	btConstraintInfo2 info;
-	info.fps = 1;
-	info.erp = 1;
-	info.m_J1linearAxis = scratch;
-	info.m_J1angularAxis = scratch + 3;
-	info.m_J2linearAxis = scratch + 6;
-	info.m_J2angularAxis = scratch + 9;
-	info.rowskip = stride;
-	info.m_constraintError = error;
-	info.cfm = 0;
-	info.m_lowerLimit = 0;
-	info.m_upperLimit = 0;
-	info.m_numIterations = 0;
-	info.m_damping = 1;
+	// The same equations as the solver's rows, unrotated: point rows along world x, y, z (row i: J1 = (−e_i, e_i × r_A),
+	// J2 = (e_i, r_B × e_i)), then the two quaternion rows (Q7, Q9; Q12 past 90°): J1 = (0, −g), J2 = (0, g).
 	const Pose pose = poseAt(transA, transB);
-	const int rows = fillBilateralRows(&info, transA, transB, pose.frameA, pose.frameB, pose.q, true);
-	for (int r = 0; r < rows; ++r)
+	int rows = 0;
+	if (!m_settings.angularOnly)
 	{
-		C[r] = -error[r * stride];
-		for (int k = 0; k < 12; ++k) jacobian[12 * r + k] = scratch[r * stride + k];
+		const btVector3 rA = pose.frameA.getOrigin() - transA.getOrigin();
+		const btVector3 rB = pose.frameB.getOrigin() - transB.getOrigin();
+		const btVector3 c = pose.frameB.getOrigin() - pose.frameA.getOrigin();
+		for (; rows < 3; ++rows)
+		{
+			btVector3 e(0, 0, 0);
+			e[rows] = 1;
+			const btVector3 angularA = e.cross(rA), angularB = rB.cross(e);
+			btScalar* j = jacobian + 12 * rows;
+			for (int k = 0; k < 3; ++k)
+			{
+				j[k] = -e[k];
+				j[3 + k] = angularA[k];
+				j[6 + k] = e[k];
+				j[9 + k] = angularB[k];
+			}
+			C[rows] = c[rows];
+		}
+	}
+	AngularRows angular;
+	computeAngularRows(pose.frameA.getBasis(), pose.q, angular);
+	const btVector3* g[2] = {&angular.rowU, &angular.rowV};
+	const btScalar value[2] = {angular.errorU, angular.errorV};
+	for (int r = 0; r < 2; ++r, ++rows)
+	{
+		btScalar* j = jacobian + 12 * rows;
+		for (int k = 0; k < 3; ++k)
+		{
+			j[k] = 0;
+			j[3 + k] = -(*g[r])[k];
+			j[6 + k] = 0;
+			j[9 + k] = (*g[r])[k];
+		}
+		C[rows] = value[r];
 	}
 	return rows;
 }
@@ -800,7 +808,7 @@ void btQuaternionHingeConstraint::fillRows(btConstraintInfo2* info, const btTran
 	if (!m_poseCached) m_pose = poseAt(transA, transB);
 	m_poseCached = false;  // the cache belongs to this getInfo1/getInfo2 pair
 	const Pose& pose = m_pose;
-	int row = fillBilateralRows(info, transA, transB, pose.frameA, pose.frameB, pose.q, false);
+	int row = fillBilateralRows(info, transA, transB, pose.frameA, pose.frameB, pose.q);
 	const int skip = info->rowskip;
 
 	const bool drive = driveActive(m_settings);

@@ -286,8 +286,7 @@ private:
 	bool needsAngle() const;
 	void computeRowCount(btConstraintInfo1 * info, const btTransform& transA, const btTransform& transB);
 	int fillBilateralRows(btConstraintInfo2 * info, const btTransform& transA, const btTransform& transB,
-						  const btTransform& frameA, const btTransform& frameB, const btQuaternion& q,
-						  bool rawError) const;
+						  const btTransform& frameA, const btTransform& frameB, const btQuaternion& q) const;
 	void fillRows(btConstraintInfo2 * info, const btTransform& transA, const btTransform& transB,
 				  const btVector3& angVelA, const btVector3& angVelB);
 	btScalar rowErp(int kind, btScalar globalErp) const;
