@@ -123,6 +123,9 @@ struct Island
 	bool stiffMetric = false;
 	double referenceMass = 0;     // kg: the heaviest body's mass
 	double referenceInertia = 0;  // kg·m²: the largest principal inertia of any body
+	// conserveEnergy (EnergyProjection.cpp): the energy the island had when first projected (J).
+	double energyReference = 0;
+	bool energyReferenceSet = false;
 };
 
 /// Builds the islands of a scan. forceSparse: every island uses SparseLDLT.
@@ -157,6 +160,10 @@ struct ProjectionResult
 
 /// Q13 then Q14 on one island.
 ProjectionResult projectIsland(Island& island, const ProjectionSettings& settings);
+
+/// conserveEnergy: scales the island's velocities back toward its reference energy (EnergyProjection.cpp); returns
+/// the relative change |s − 1| applied (0 when skipped or when the reference was just taken).
+double restoreEnergy(Island& island);
 
 }  // namespace stabilizer
 }  // namespace quathinge

@@ -112,6 +112,8 @@ const btQuaternionHingeStabilizerStats& btQuaternionHingeStabilizer::stabilize(b
 	{
 		Island& island = *islandPtr;
 		const ProjectionResult r = projectIsland(island, settings);
+		if (m_settings.conserveEnergy)
+			m_stats.energyCorrection = std::max(m_stats.energyCorrection, btScalar(restoreEnergy(island)));
 		++m_stats.islands;
 		if (island.useSparse) ++m_stats.sparseIslands;
 		m_stats.joints += int(island.joints.size());

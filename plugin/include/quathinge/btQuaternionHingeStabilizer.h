@@ -105,6 +105,14 @@ struct btQuaternionHingeStabilizerSettings
 	/// finite. [0, 1e-2]; 0 only when no island is ever redundant.
 	btScalar regularization = btScalar(1e-9);
 	btQuaternionHingeStabilizerSolver solver = BT_QHSTAB_SOLVER_AUTO;
+	/// Energy-consistent option (off by default), for islands the user knows to be conservative: gravity only — no
+	/// damping, motors, springs, friction, limits being hit, contacts or other constraints doing work. After the
+	/// velocity projection the island's velocities are scaled by one factor so that its energy (kinetic + the
+	/// gravity potential of each body's own gravity) returns to the value it had when the island was first projected
+	/// (J v = 0 is kept exactly: it is linear in v). At most 10% per step; skipped for an island hung on a moving
+	/// kinematic body. The reference is taken again when the islands are rebuilt (structureRebuilt) — after applying
+	/// an impulse by hand, call invalidateStructure() to make the new energy the reference.
+	bool conserveEnergy = false;
 };
 
 /// What the last call did (one internal step: updateAction or stabilize). Residuals are ‖C‖∞ over every projected
@@ -130,6 +138,7 @@ struct btQuaternionHingeStabilizerStats
 										  ///< its position threshold over the time step, or the rounding floor)
 	bool structureRebuilt = false;  ///< the islands were (re)built this step: joints, bodies or their state changed
 	int numericalIssues = 0;        ///< pivots that were not positive and were treated as inactive rows (none expected)
+	btScalar energyCorrection = 0;  ///< conserveEnergy: the largest relative velocity scaling |s − 1| applied
 	double timeMicroseconds = 0;    ///< wall time of the call
 };
 
