@@ -46,3 +46,29 @@ TEST(DebugDraw, DrawsFramesAxisAndLimitArc)
 	joint.debugDraw(&limited);
 	EXPECT_GT(limited.lines, plain.lines);
 }
+
+TEST(DebugDraw, WorldDebugDrawSkipsTheJointSafely)
+{
+	// btDiscreteDynamicsWorld::debugDrawWorld with constraints on: the unknown type falls through its switch (no
+	// downcast to a stock class), so drawing a world that holds the joint is safe (UBSan checks the enum value).
+	btDefaultCollisionConfiguration config;
+	btCollisionDispatcher dispatcher(&config);
+	btDbvtBroadphase broadphase;
+	btSequentialImpulseConstraintSolver solver;
+	btDiscreteDynamicsWorld world(&dispatcher, &broadphase, &solver, &config);
+	btBoxShape shape(btVector3(1, 1, 1));
+	btRigidBody a(1, nullptr, &shape, btVector3(1, 1, 1)), b(1, nullptr, &shape, btVector3(1, 1, 1));
+	btQuaternionHingeConstraint joint(a, b, btTransform::getIdentity(), btTransform::getIdentity());
+	joint.setLimit(-1, 1);
+	world.addRigidBody(&a);
+	world.addRigidBody(&b);
+	world.addConstraint(&joint, true);
+	CountingDrawer drawer;
+	drawer.mode = btIDebugDraw::DBG_DrawConstraints | btIDebugDraw::DBG_DrawConstraintLimits;
+	world.setDebugDrawer(&drawer);
+	world.debugDrawWorld();
+	EXPECT_EQ(drawer.lines, 0);  // nothing drawn for it by the world: it draws itself (debugDraw above)
+	world.removeConstraint(&joint);
+	world.removeRigidBody(&b);
+	world.removeRigidBody(&a);
+}

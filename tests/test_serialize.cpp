@@ -46,6 +46,12 @@ TEST(Serialization, EverySettingRoundTrips)
 	joint.setBreakingImpulseThreshold(77);
 	joint.setUserConstraintType(5);
 	joint.setOverrideNumSolverIterations(23);
+	joint.setUserConstraintId(31);
+	joint.setDbgDrawSize(btScalar(0.7));
+	joint.setEnabled(false);
+	b.setWorldTransform(btTransform(btQuaternion(btVector3(0, 0, 1), btScalar(0.4))));
+	joint.setMultiTurnAngle(joint.getHingeAngle() - SIMD_2_PI);  // one turn down (≈ −5.9 rad), inside [−7, 9]
+	const btScalar multiTurn = joint.getMultiTurnAngle();
 	const std::vector<unsigned char> buffer = serialize(joint);
 
 	btQuaternionHingeSettings s;
@@ -91,6 +97,11 @@ TEST(Serialization, EverySettingRoundTrips)
 	EXPECT_EQ(restored->getOverrideNumSolverIterations(), 23);
 	EXPECT_EQ(restored->getDriveMode(), BT_QHINGE_DRIVE_SPRING);
 	EXPECT_EQ(restored->getParam(BT_CONSTRAINT_CFM, 1), btScalar(0.01));
+	EXPECT_EQ(restored->getUserConstraintId(), 31);
+	EXPECT_EQ(restored->getDbgDrawSize(), btScalar(0.7));
+	EXPECT_FALSE(restored->isEnabled());
+	// the turn count survives (rad; written in double, so exact in either precision)
+	EXPECT_EQ(restored->getMultiTurnAngle(), multiTurn);
 }
 
 TEST(Serialization, PrefixIsAStockHingeAndAPlainStockBufferIsRefused)

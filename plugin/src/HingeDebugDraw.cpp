@@ -5,6 +5,8 @@
 #include "BulletDynamics/Dynamics/btRigidBody.h"
 #include "LinearMath/btIDebugDraw.h"
 
+#include <cmath>
+
 void btQuaternionHingeConstraint::debugDraw(btIDebugDraw* drawer, btScalar size) const
 {
 	if (!drawer) return;
@@ -18,6 +20,11 @@ void btQuaternionHingeConstraint::debugDraw(btIDebugDraw* drawer, btScalar size)
 	// The arc in frame A's xy plane, in the getHingeAngle convention (σ: see getHingeAngle); at most one turn shown.
 	const btScalar sigma = m_settings.useReferenceFrameA ? btScalar(1) : btScalar(-1);
 	btScalar low = m_settings.lowerLimit, high = m_settings.upperLimit;
+	// a side without a stop (±inf) is drawn as half a turn from the other stop; no stop at all, no arc
+	const bool lowFinite = std::isfinite(low), highFinite = std::isfinite(high);
+	if (!lowFinite && !highFinite) return;
+	if (!lowFinite) low = high - SIMD_PI;
+	if (!highFinite) high = low + SIMD_PI;
 	if (high - low > SIMD_2_PI) high = low + SIMD_2_PI;
 	btScalar from = sigma * low, to = sigma * high;
 	if (from > to) btSwap(from, to);

@@ -3,11 +3,16 @@
 
 #include "LinearMath/btSerializer.h"
 
+#include <cmath>
 #include <cstring>
+#include <string>
 #include <stdexcept>
 
 namespace
 {
+// The largest solver-iteration override a file may ask for (Bullet would run every one of them, every step).
+const int kMaxSolverIterationsOverride = 1000;
+
 const int kVersion = 1;
 }
 
@@ -130,8 +135,22 @@ btQuaternionHingeConstraint* btQuaternionHingeDeserialize(const void* buffer, si
 		throw std::invalid_argument("btQuaternionHingeDeserialize: data: " + why);
 	btQuaternionHingeConstraintData data;
 	std::memcpy(&data, buffer, sizeof(data));
-	btQuaternionHingeConstraint* joint = new btQuaternionHingeConstraint(rbA, rbB, settings);
+	// btTypedConstraint's own fields from the file, checked as the joint's setters check theirs (its setters do not)
 	const auto& typed = data.m_stock.m_typeConstraintData;
+	const double threshold = double(typed.m_breakingImpulseThreshold);
+	if (!(threshold >= 0))
+		throw std::invalid_argument("btQuaternionHingeDeserialize: data: breakingImpulseThreshold (" +
+									std::to_string(threshold) + ") must be >= 0 (SIMD_INFINITY: never breaks)");
+	const int iterations = typed.m_overrideNumSolverIterations;
+	if (iterations != -1 && (iterations < 1 || iterations > kMaxSolverIterationsOverride))
+		throw std::invalid_argument("btQuaternionHingeDeserialize: data: overrideNumSolverIterations (" +
+									std::to_string(iterations) + ") must be -1 (none) or in [1, " +
+									std::to_string(kMaxSolverIterationsOverride) + "]");
+	const double drawSize = double(typed.m_dbgDrawSize);
+	if (!(drawSize >= 0) || !std::isfinite(drawSize))
+		throw std::invalid_argument("btQuaternionHingeDeserialize: data: dbgDrawSize (" + std::to_string(drawSize) +
+									") must be finite and >= 0");
+	btQuaternionHingeConstraint* joint = new btQuaternionHingeConstraint(rbA, rbB, settings);
 	joint->setBreakingImpulseThreshold(btScalar(typed.m_breakingImpulseThreshold));
 	joint->setEnabled(typed.m_isEnabled != 0);
 	joint->setUserConstraintType(typed.m_userConstraintType);

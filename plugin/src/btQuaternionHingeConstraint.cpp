@@ -13,6 +13,7 @@
 #include "BulletDynamics/Dynamics/btRigidBody.h"
 
 #include <cmath>
+#include <limits>
 #include <sstream>
 
 using namespace quathinge;
@@ -45,6 +46,20 @@ bool finiteBodyState(const btRigidBody& body)
 	const btScalar inverse = body.getInvMass() + body.getInvInertiaDiagLocal().x() + body.getInvInertiaDiagLocal().y() +
 							 body.getInvInertiaDiagLocal().z();
 	return sum.x() + sum.y() + sum.z() < kMaxBodyState && inverse < kMaxBodyState;  // false for NaN as well
+}
+
+// Frame B's x for the pivot/axis constructors: frame A's x carried along the shortest arc from axisA to axisB (as
+// btHingeConstraint does), then made exactly orthogonal to axisB. Near-antiparallel axes make shortestArcQuat lose
+// precision (its quaternion is then far from unit and the column neither unit nor orthogonal): the projection repairs
+// that, and if nothing is left, any direction across axisB will do.
+btVector3 arcTurnedColumn(const btVector3& axisA, const btVector3& axisA1, const btVector3& axisB)
+{
+	btVector3 column = quatRotate(shortestArcQuat(axisA, axisB).normalized(), axisA1);
+	column -= axisB * axisB.dot(column);
+	if (column.length2() > SIMD_EPSILON) return column.normalized();
+	btVector3 u, v;
+	btPlaneSpace1(axisB, u, v);
+	return u;
 }
 
 bool isStaticLike(const btRigidBody& body)
@@ -95,8 +110,7 @@ btQuaternionHingeConstraint::btQuaternionHingeConstraint(btRigidBody& rbA, btRig
 		axisA2 = axisA.cross(axisA1).normalized();
 		axisA1 = axisA2.cross(axisA);
 	}
-	const btQuaternion arc = shortestArcQuat(axisA, axisB);
-	const btVector3 axisB1 = quatRotate(arc, axisA1);
+	const btVector3 axisB1 = arcTurnedColumn(axisA, axisA1, axisB);
 	const btVector3 axisB2 = axisB.cross(axisB1);
 
 	m_settings.frameInA = btTransform(basisFromColumns(axisA1, axisA2, axisA), pivotInA);
@@ -117,13 +131,13 @@ btQuaternionHingeConstraint::btQuaternionHingeConstraint(btRigidBody& rbA, const
 	btVector3 axisA1, axisA2;
 	btPlaneSpace1(axisA, axisA1, axisA2);
 	const btVector3 axisB = rbA.getCenterOfMassTransform().getBasis() * axisA;
-	const btQuaternion arc = shortestArcQuat(axisA, axisB);
-	const btVector3 axisB1 = quatRotate(arc, axisA1);
+	const btVector3 axisB1 = arcTurnedColumn(axisA, axisA1, axisB);
 	const btVector3 axisB2 = axisB.cross(axisB1);
 
 	m_settings.frameInA = btTransform(basisFromColumns(axisA1, axisA2, axisA), pivotInA);
 	m_settings.frameInB =
 		btTransform(basisFromColumns(axisB1, axisB2, axisB), rbA.getCenterOfMassTransform()(pivotInA));
+	check::rigidFrame(fn, "world frame derived for B from rbA's pose", m_settings.frameInB);
 	m_settings.useReferenceFrameA = useReferenceFrameA;
 	initFromSettings();
 }
@@ -152,6 +166,7 @@ btQuaternionHingeConstraint::btQuaternionHingeConstraint(btRigidBody& rbA, const
 	// As btHingeConstraint: B's frame has A's basis and A's pivot in world coordinates.
 	m_settings.frameInA = rbAFrame;
 	m_settings.frameInB = btTransform(rbAFrame.getBasis(), rbA.getCenterOfMassTransform()(rbAFrame.getOrigin()));
+	check::rigidFrame(fn, "world frame derived for B from rbA's pose", m_settings.frameInB);
 	m_settings.useReferenceFrameA = useReferenceFrameA;
 	initFromSettings();
 }
@@ -247,15 +262,20 @@ btTransform& btQuaternionHingeConstraint::getFrameOffsetB()
 void btQuaternionHingeConstraint::validateFramesIfEdited()
 {
 	if (!m_framesMayHaveChanged) return;
-	m_framesMayHaveChanged = false;
 	// A non-const reference was handed out; most callers only read through it (e.g. a non-const joint pointer).
-	if (m_settings.frameInA == m_checkedFrameA && m_settings.frameInB == m_checkedFrameB) return;
+	if (m_settings.frameInA == m_checkedFrameA && m_settings.frameInB == m_checkedFrameB)
+	{
+		m_framesMayHaveChanged = false;
+		return;
+	}
 	if (!check::isRigidFrame(m_settings.frameInA) || !check::isRigidFrame(m_settings.frameInB))
 	{
+		// refused: checked again at every getInfo1 (and by clearFault) until the frames are repaired
 		m_fault = BT_QHINGE_FAULT_FRAME_EDITED_INVALID;
 		setEnabled(false);
 		return;
 	}
+	m_framesMayHaveChanged = false;
 	m_checkedFrameA = m_settings.frameInA;
 	m_checkedFrameB = m_settings.frameInB;
 	m_multiTurnValid = false;  // the zero angle may have moved
@@ -283,10 +303,12 @@ void btQuaternionHingeConstraint::setAxis(btVector3& axisInA)
 	const btTransform& transA = m_rbA.getCenterOfMassTransform();
 	const btTransform& transB = m_rbB.getCenterOfMassTransform();
 	const btMatrix3x3 basisA = basisFromColumns(axisA1, axisA2, axisA);
+	// B's frame: A's joint frame as it is now in world coordinates, expressed in B — checked like a given frame (two
+	// bodies 1e9 m apart would put B's pivot 1e9 m from it), before anything changes.
+	const btTransform frameB(transB.getBasis().transposeTimes(transA.getBasis() * basisA), transB.inverse()(transA(pivotInA)));
+	check::rigidFrame("btQuaternionHingeConstraint::setAxis", "frame derived for B from the bodies' poses", frameB);
 	m_settings.frameInA.setBasis(basisA);
-	// B's frame: A's joint frame as it is now in world coordinates, expressed in B.
-	m_settings.frameInB.setOrigin(transB.inverse()(transA(pivotInA)));
-	m_settings.frameInB.setBasis(transB.getBasis().transposeTimes(transA.getBasis() * basisA));
+	m_settings.frameInB = frameB;
 	m_checkedFrameA = m_settings.frameInA;
 	m_checkedFrameB = m_settings.frameInB;
 	m_multiTurnValid = false;
@@ -401,10 +423,13 @@ void btQuaternionHingeConstraint::setLimit(btScalar low, btScalar high, btScalar
 	const char* fn = "btQuaternionHingeConstraint::setLimit";
 	if (std::isnan(low)) check::fail(fn, "low", "must not be NaN", low);
 	if (std::isnan(high)) check::fail(fn, "high", "must not be NaN", high);
-	if (low == SIMD_INFINITY) check::fail(fn, "low", "must be below +infinity", low);
-	if (high == -SIMD_INFINITY) check::fail(fn, "high", "must be above -infinity", high);
-	if (std::isfinite(low)) check::angle(fn, "low", low);
-	if (std::isfinite(high)) check::angle(fn, "high", high);
+	// A side at or beyond ±BT_LARGE_FLOAT (±SIMD_INFINITY, ±inf) means no stop on that side, stored as ±inf.
+	if (low >= BT_LARGE_FLOAT) check::fail(fn, "low", "must be below +infinity", low);
+	if (high <= -BT_LARGE_FLOAT) check::fail(fn, "high", "must be above -infinity", high);
+	if (low <= -BT_LARGE_FLOAT) low = -std::numeric_limits<btScalar>::infinity();
+	else check::angle(fn, "low", low);
+	if (high >= BT_LARGE_FLOAT) high = std::numeric_limits<btScalar>::infinity();
+	else check::angle(fn, "high", high);
 	if (low > high)
 	{
 		std::ostringstream message;
@@ -599,8 +624,10 @@ btScalar btQuaternionHingeConstraint::rowCfm(int kind, btScalar globalCfm) const
 
 void btQuaternionHingeConstraint::clearFault()
 {
+	// A refused frame edit is not cleared until the frames are rigid again (else the refused frame would be used).
 	m_fault = BT_QHINGE_FAULT_NONE;
-	setEnabled(true);
+	validateFramesIfEdited();
+	setEnabled(m_fault == BT_QHINGE_FAULT_NONE);
 }
 
 void btQuaternionHingeConstraint::getInfo1(btConstraintInfo1* info)

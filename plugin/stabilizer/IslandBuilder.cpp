@@ -29,6 +29,9 @@ void scanWorld(btDynamicsWorld& world, bool projectLimits, std::vector<Signature
 		btTypedConstraint* c = world.getConstraint(i);
 		if (c->getConstraintType() != QUATERNION_HINGE_CONSTRAINT_TYPE || !c->isEnabled()) continue;
 		btQuaternionHingeConstraint* hinge = static_cast<btQuaternionHingeConstraint*>(c);
+		// a faulted joint (refused frame edit, bad body state) re-enabled with setEnabled(true) instead of
+		// clearFault(): the solver gets no rows from it, and the stabilizer must not project onto its refused frame
+		if (hinge->getFault() != BT_QHINGE_FAULT_NONE) continue;
 		SignatureEntry e;
 		e.joint = hinge;
 		e.body[0] = &hinge->getRigidBodyA();

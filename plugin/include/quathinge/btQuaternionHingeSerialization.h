@@ -50,7 +50,9 @@ bool btQuaternionHingeReadSettings(const void* data, size_t size, btQuaternionHi
 
 /// Builds the joint from a serialized buffer: settings (as above) plus what btTypedConstraint keeps (breaking
 /// threshold, enabled, user type and id, solver-iteration override, feedback flag, debug-draw size) and the
-/// multi-turn angle. Throws std::invalid_argument on a buffer btQuaternionHingeReadSettings refuses.
+/// multi-turn angle. Throws std::invalid_argument on a buffer btQuaternionHingeReadSettings refuses, or whose
+/// btTypedConstraint fields are out of range: breaking threshold < 0 or NaN, solver-iteration override other than −1
+/// or 1…1000 (a larger one would stall the solver), debug-draw size not finite or < 0.
 btQuaternionHingeConstraint* btQuaternionHingeDeserialize(const void* data, size_t size, btRigidBody& rbA,
 														  btRigidBody& rbB);
 

@@ -1,0 +1,235 @@
+// Regression tests for what the fuzzer found (tests/fuzz/crashes/README.md tells each story; the reproducers now live
+// in tests/fuzz/corpus/ and guard the fixes there too). One test per finding, named after its reproducer.
+#include "quathinge/btQuaternionHingeConstraint.h"
+#include "quathinge/btQuaternionHingeSerialization.h"
+#include "support/World.h"
+
+#ifdef QUATHINGE_HAVE_STABILIZER
+#include "quathinge/btQuaternionHingeStabilizer.h"
+#endif
+
+#include <btBulletDynamicsCommon.h>
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstring>
+#include <limits>
+#include <memory>
+#include <stdexcept>
+#include <vector>
+
+namespace
+{
+// A frame is a rotation: columns unit and orthogonal to float round-off, right-handed (dimensionless).
+const double kFrameTol = 1e-5;
+
+bool isRotation(const btMatrix3x3& m)
+{
+	for (int i = 0; i < 3; ++i)
+		for (int j = 0; j < 3; ++j)
+			if (std::fabs(double(m.getColumn(i).dot(m.getColumn(j))) - (i == j ? 1 : 0)) > kFrameTol) return false;
+	return m.determinant() > 0;
+}
+
+struct MiniWorld
+{
+	btDefaultCollisionConfiguration config;
+	btCollisionDispatcher dispatcher{&config};
+	btDbvtBroadphase broadphase;
+	btSequentialImpulseConstraintSolver solver;
+	btDiscreteDynamicsWorld world{&dispatcher, &broadphase, &solver, &config};
+	btBoxShape shape{btVector3(btScalar(0.1), btScalar(0.1), btScalar(0.1))};
+	std::vector<std::unique_ptr<btRigidBody>> bodies;
+	MiniWorld() { world.setGravity(btVector3(0, -10, 0)); }
+	~MiniWorld()
+	{
+		for (int i = world.getNumConstraints() - 1; i >= 0; --i) world.removeConstraint(world.getConstraint(i));
+		for (auto& b : bodies) world.removeRigidBody(b.get());
+	}
+	btRigidBody& box(const btVector3& at)
+	{
+		btVector3 inertia;
+		shape.calculateLocalInertia(1, inertia);
+		bodies.emplace_back(new btRigidBody(1, nullptr, &shape, inertia));
+		bodies.back()->setWorldTransform(btTransform(btQuaternion::getIdentity(), at));
+		bodies.back()->setActivationState(DISABLE_DEACTIVATION);
+		world.addRigidBody(bodies.back().get());
+		return *bodies.back();
+	}
+	void step() { world.stepSimulation(btScalar(1) / 60, 0, btScalar(1) / 60); }
+};
+
+struct CountingDrawer : btIDebugDraw
+{
+	int lines = 0, nonFinite = 0;
+	void drawLine(const btVector3& from, const btVector3& to, const btVector3&) override
+	{
+		++lines;
+		for (int i = 0; i < 3; ++i)
+			if (!std::isfinite(from[i]) || !std::isfinite(to[i])) ++nonFinite;
+	}
+	void drawContactPoint(const btVector3&, const btVector3&, btScalar, int, const btVector3&) override {}
+	void reportErrorWarning(const char*) override {}
+	void draw3dText(const btVector3&, const char*) override {}
+	void setDebugMode(int) override {}
+	int getDebugMode() const override { return DBG_DrawConstraints | DBG_DrawConstraintLimits; }
+};
+}  // namespace
+
+TEST(FuzzFindings, ClearFaultKeepsARefusedEditedFrameRefused)
+{
+	// clearfault-keeps-invalid-edited-frame: a frame edited to a 2e21 m pivot is refused at the next step; clearFault()
+	// must not bring it back into use (the joint stays faulted and disabled), and a repaired frame is accepted.
+	MiniWorld w;
+	btRigidBody& a = w.box(btVector3(0, 0, 0));
+	btQuaternionHingeConstraint j(a, btVector3(0, btScalar(0.5), 0), btVector3(0, 0, 1));
+	w.world.addConstraint(&j);
+	const btScalar good = j.getFrameOffsetB().getOrigin().y();
+	j.getFrameOffsetB().getOrigin().setY(btScalar(2e21));
+	w.step();
+	EXPECT_EQ(j.getFault(), BT_QHINGE_FAULT_FRAME_EDITED_INVALID);
+	j.clearFault();
+	EXPECT_EQ(j.getFault(), BT_QHINGE_FAULT_FRAME_EDITED_INVALID);
+	EXPECT_FALSE(j.isEnabled());
+	w.step();
+	EXPECT_TRUE(qh_test::finiteState(a));
+	EXPECT_LT(a.getLinearVelocity().length(), btScalar(1));  // m/s: one step of gravity, not a pull toward 2e21 m
+	j.getFrameOffsetB().getOrigin().setY(good);  // repaired
+	j.clearFault();
+	EXPECT_EQ(j.getFault(), BT_QHINGE_FAULT_NONE);
+	EXPECT_TRUE(j.isEnabled());
+}
+
+#ifdef QUATHINGE_HAVE_STABILIZER
+TEST(FuzzFindings, StabilizerSkipsAFaultedJointReenabledByHand)
+{
+	// stabilizer-projects-faulted-joint: re-enabled with setEnabled(true) but still faulted, the joint gives the solver
+	// no rows and the stabilizer must not project onto its refused frame (1e7 m away).
+	MiniWorld w;
+	btRigidBody& a = w.box(btVector3(0, 0, 0));
+	btQuaternionHingeConstraint j(a, btVector3(0, btScalar(0.5), 0), btVector3(0, 0, 1));
+	w.world.addConstraint(&j);
+	btQuaternionHingeStabilizer stabilizer;
+	w.world.addAction(&stabilizer);
+	j.getFrameOffsetB().getOrigin().setY(btScalar(1e7));
+	w.step();
+	j.setEnabled(true);
+	w.step();
+	w.world.removeAction(&stabilizer);
+	EXPECT_EQ(j.getFault(), BT_QHINGE_FAULT_FRAME_EDITED_INVALID);
+	EXPECT_EQ(stabilizer.getLastStats().joints, 0);
+	EXPECT_LT(a.getCenterOfMassPosition().length(), btScalar(1));  // m: not teleported
+}
+#endif
+
+TEST(FuzzFindings, NearlyAntiparallelAxesStillGiveRigidFrames)
+{
+	// constructor-nearly-antiparallel-axes: axes antiparallel to within rounding (shortestArcQuat's quaternion is far
+	// from unit there) and a world hinge on a body turned upside down about 360 axes: frame B is a rotation and its z
+	// is the given axis.
+	btBoxShape shape(btVector3(1, 1, 1));
+	btRigidBody a(1, nullptr, &shape, btVector3(1, 1, 1)), b(1, nullptr, &shape, btVector3(1, 1, 1));
+	const btVector3 axisA(btScalar(0.384335816), btScalar(0.509100378), btScalar(0.770131648));
+	const btVector3 axisB(btScalar(-0.384335876), btScalar(-0.509100437), btScalar(-0.770131707));
+	btQuaternionHingeConstraint pair(a, b, btVector3(0, 0, 0), btVector3(0, 0, 0), axisA, axisB);
+	EXPECT_TRUE(isRotation(pair.getBFrame().getBasis()));
+	EXPECT_NEAR((pair.getBFrame().getBasis().getColumn(2) - axisB.normalized()).length(), 0, kFrameTol);
+	int notRotation = 0;
+	for (int degree = 0; degree < 360; ++degree)
+	{
+		const btScalar turn = btScalar(degree) * SIMD_RADS_PER_DEG;
+		a.setWorldTransform(btTransform(btQuaternion(btVector3(btCos(turn), btSin(turn), 0), SIMD_PI)));
+		btQuaternionHingeConstraint world(a, btVector3(0, btScalar(0.5), 0), btVector3(0, 0, 1));
+		if (!isRotation(world.getBFrame().getBasis())) ++notRotation;
+	}
+	EXPECT_EQ(notRotation, 0);
+}
+
+TEST(FuzzFindings, DebugDrawOfAHalfOpenLimitDrawsOnlyFiniteLines)
+{
+	// debugdraw-half-open-limit: a limit open on one side drew NaN lines (and passed NaN to an int conversion).
+	btBoxShape shape(btVector3(1, 1, 1));
+	btRigidBody a(1, nullptr, &shape, btVector3(1, 1, 1));
+	btQuaternionHingeConstraint j(a, btVector3(0, btScalar(0.5), 0), btVector3(0, 0, 1));
+	const btScalar inf = std::numeric_limits<btScalar>::infinity();
+	const btScalar sides[3][2] = {{-inf, 1}, {-1, inf}, {-inf, inf}};
+	for (const auto& side : sides)
+	{
+		j.setLimit(side[0], side[1]);
+		CountingDrawer drawer;
+		j.debugDraw(&drawer);
+		EXPECT_GT(drawer.lines, 0);
+		EXPECT_EQ(drawer.nonFinite, 0) << side[0] << " " << side[1];
+	}
+}
+
+TEST(FuzzFindings, SimdInfinityMeansNoStopOnThatSide)
+{
+	// Bullet users write ±SIMD_INFINITY (or ±BT_LARGE_FLOAT) for "no limit on this side": accepted, stored as ±inf.
+	btBoxShape shape(btVector3(1, 1, 1));
+	btRigidBody a(1, nullptr, &shape, btVector3(1, 1, 1));
+	btQuaternionHingeConstraint j(a, btVector3(0, btScalar(0.5), 0), btVector3(0, 0, 1));
+	j.setLimit(-SIMD_INFINITY, 1);
+	EXPECT_TRUE(std::isinf(j.getLowerLimit()) && j.getLowerLimit() < 0);
+	EXPECT_EQ(j.getUpperLimit(), btScalar(1));
+	j.setLimit(-1, BT_LARGE_FLOAT);
+	EXPECT_TRUE(std::isinf(j.getUpperLimit()) && j.getUpperLimit() > 0);
+	EXPECT_THROW(j.setLimit(SIMD_INFINITY, SIMD_INFINITY), std::invalid_argument);    // low at +∞: no angle is above it
+	EXPECT_THROW(j.setLimit(-SIMD_INFINITY, -SIMD_INFINITY), std::invalid_argument);  // high at −∞
+	EXPECT_THROW(j.setLimit(std::nanf(""), 1), std::invalid_argument);
+}
+
+TEST(FuzzFindings, DeserializeRefusesOutOfRangeTypedConstraintFields)
+{
+	// deserialize-negative-breaking-threshold, deserialize-huge-solver-iterations: btTypedConstraint's fields from a
+	// file are checked like the joint's own (a negative threshold inverted the rows' bounds; 2.5e8 iterations hung).
+	btBoxShape shape(btVector3(1, 1, 1));
+	btRigidBody a(1, nullptr, &shape, btVector3(1, 1, 1));
+	btQuaternionHingeConstraint j(a, btVector3(0, btScalar(0.5), 0), btVector3(0, 0, 1));
+	btDefaultSerializer serializer;
+	std::vector<unsigned char> buffer(size_t(j.calculateSerializeBufferSize()));
+	j.serialize(buffer.data(), &serializer);
+	auto edited = [&](auto edit) {
+		btQuaternionHingeConstraintData data;
+		std::memcpy(&data, buffer.data(), sizeof data);
+		edit(data.m_stock.m_typeConstraintData);
+		std::vector<unsigned char> copy = buffer;
+		std::memcpy(copy.data(), &data, sizeof data);
+		return copy;
+	};
+	auto load = [&](const std::vector<unsigned char>& bytes) {
+		std::unique_ptr<btQuaternionHingeConstraint> joint(
+			btQuaternionHingeDeserialize(bytes.data(), bytes.size(), a, btTypedConstraint::getFixedBody()));
+		return joint->getOverrideNumSolverIterations();
+	};
+	EXPECT_NO_THROW(load(buffer));
+	EXPECT_THROW(load(edited([](auto& t) { t.m_breakingImpulseThreshold = -1e20f; })), std::invalid_argument);
+	EXPECT_THROW(load(edited([](auto& t) { t.m_breakingImpulseThreshold = std::nanf(""); })), std::invalid_argument);
+	EXPECT_THROW(load(edited([](auto& t) { t.m_overrideNumSolverIterations = 250000000; })), std::invalid_argument);
+	EXPECT_THROW(load(edited([](auto& t) { t.m_overrideNumSolverIterations = 0; })), std::invalid_argument);
+	EXPECT_THROW(load(edited([](auto& t) { t.m_dbgDrawSize = -1; })), std::invalid_argument);
+	EXPECT_EQ(load(edited([](auto& t) { t.m_overrideNumSolverIterations = 40; })), 40);
+}
+
+TEST(FuzzFindings, SetAxisRefusesADerivedFrameBeyondThePivotRange)
+{
+	// setaxis-bodies-far-apart: setAxis derives B's frame from the bodies' current poses; with A parked 4e9 m away the
+	// derived pivot in B is 4e9 m from B's centre of mass, which no given frame may be (kMaxPivotDistance, 1e6 m).
+	// Refused with the parameter named, and nothing changed.
+	btBoxShape shape(btVector3(1, 1, 1));
+	btRigidBody a(0, nullptr, &shape, btVector3(0, 0, 0)), b(1, nullptr, &shape, btVector3(1, 1, 1));
+	btQuaternionHingeConstraint j(a, b, btTransform::getIdentity(), btTransform::getIdentity());
+	a.setWorldTransform(btTransform(btQuaternion::getIdentity(), btVector3(0, btScalar(-4e9), 0)));
+	const btTransform before = j.getBFrame();
+	btVector3 axis(1, 0, 0);
+	try
+	{
+		j.setAxis(axis);
+		FAIL() << "setAxis accepted a derived pivot 4e9 m from body B";
+	}
+	catch (const std::invalid_argument& e)
+	{
+		EXPECT_NE(std::string(e.what()).find("frame derived for B"), std::string::npos) << e.what();
+	}
+	EXPECT_EQ(j.getBFrame().getOrigin(), before.getOrigin());
+}
