@@ -1,13 +1,16 @@
 #!/usr/bin/env bash
 # Regenerates every figure and the README's results table from fresh runs:
-#   bash demos/make_report.sh        (about two minutes on two cores)
-# Uses Debian's own /usr/bin/python3 (python3-matplotlib). Writes the plots to docs/images/ and the table into README.md (between the results markers).
+#   bash demos/make_report.sh        (under a minute of runs on two cores, after the build)
+# Uses Debian's own /usr/bin/python3 (python3-matplotlib). Writes the plots to docs/images/, the table to
+# docs/images/results.md and into README.md (between the results markers), the raw CSV/JSON to demos/out/report/.
+# QUATHINGE_BUILD_DIR picks the build directory (default build/); QUATHINGE_MODELS_DIR the shared models.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash cmake/setup-debian.sh
-cmake -S . -B build -DCMAKE_BUILD_TYPE=Release >/dev/null
-cmake --build build -j2 --target quathinge-compare
-compare=./build/demos/quathinge-compare
+build=${QUATHINGE_BUILD_DIR:-build}
+cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=Release >/dev/null
+cmake --build "$build" -j2 --target quathinge-compare
+compare=$build/demos/quathinge-compare
 out=demos/out/report
 mkdir -p "$out"
 models=${QUATHINGE_MODELS_DIR:-../shared/models}
@@ -21,6 +24,7 @@ $compare --models "$models" -s pendulum chain10 heavy100 four_bar double_pendulu
 # 3. drift and energy over time
 $compare --models "$models" -s pendulum chain10 heavy100 --no-reference --series -o "$out/series" >"$out/series.txt"
 note="Measured by \`bash demos/make_report.sh\` on $(lscpu | sed -n 's/^Model name: *//p' | head -1), $(nproc) cores, \
-$(date -u +%Y-%m-%d); 60 Hz, 10 iterations, Bullet $(pkg-config --modversion bullet) float. Full data: \`$out/\`."
+$(date -u +%Y-%m-%d); 60 Hz, 10 iterations, Bullet $(pkg-config --modversion bullet) float; run time is each run's own \
+thread CPU time. Full data: \`$out/\`."
 /usr/bin/python3 demos/plot_report.py --sweep "$out/sweep/results.json" --series "$out/series/results.json" \
-  --table "$out/table/results.json" --images docs/images --readme README.md --note "$note"
+  --table "$out/table/results.json" --images docs/images --markdown docs/images/results.md --readme README.md --note "$note"

@@ -1,13 +1,18 @@
 #!/usr/bin/python3
 """Plots and the README results table from quathinge-compare's JSON (Debian's python3-matplotlib only).
 
-  plot_report.py --sweep SWEEP.json --series SERIES.json --table TABLE.json --images DIR [--readme README.md]
+  plot_report.py --sweep SWEEP.json --series SERIES.json --table TABLE.json --images DIR
+                 [--markdown demos/out/results.md] [--readme README.md]
 
-- error against run time: one panel per scene, log-log, wall time per simulated second against the maximum joint
-  separation, each kind's runs as points and its Pareto front as a line (sweep over step and iterations);
+- error against run time: one panel per scene, log-log, run time per simulated second (the run's own thread CPU
+  time, so other load on the machine does not move the points; wall time for JSON written before it was recorded)
+  against the maximum joint separation, each kind's runs as points and its Pareto front as a line (sweep over step
+  and iterations);
 - drift and energy over time for each kind (series);
-- the results table (TABLE.json, one run per scene × kind) as Markdown, written into README.md between the markers
-  <!-- results:begin --> and <!-- results:end --> when --readme is given (no figure in the README is typed by hand).
+- the results table (TABLE.json, one run per scene × kind) as Markdown into --markdown, and into README.md between the
+  markers <!-- results:begin --> and <!-- results:end --> when --readme is given (no figure in the README is typed by
+  hand).
+Any of --sweep, --series, --table may be left out: that plot or table is then not made.
 """
 import argparse
 import json
@@ -44,6 +49,11 @@ def pareto(points):
     return front
 
 
+def run_time(r):
+    """Seconds of run time per simulated second: thread CPU time where recorded, else wall time."""
+    return r.get("cpu_per_sim_s", r["wall_per_sim_s"])
+
+
 def floor(v):
     return max(v, 1e-12)  # log axes: an exact zero shows at the bottom
 
@@ -55,7 +65,7 @@ def plot_sweep(runs, out):
     fig, axes = plt.subplots(rows, cols, figsize=(5 * cols, 4 * rows), squeeze=False)
     for ax, scene in zip(axes.flat, scenes):
         for kind, (color, marker) in KIND_STYLE.items():
-            pts = [(r["wall_per_sim_s"], floor(r["max_separation_m"]), r) for r in runs
+            pts = [(run_time(r), floor(r["max_separation_m"]), r) for r in runs
                    if r["scene"] == scene and r["kind"] == kind and not r["blew_up"]]
             if not pts:
                 continue
@@ -64,11 +74,11 @@ def plot_sweep(runs, out):
             ax.plot([p[0] for p in front], [p[1] for p in front], color=color, label=kind)
             blown = [r for r in runs if r["scene"] == scene and r["kind"] == kind and r["blew_up"]]
             if blown:
-                ax.scatter([r["wall_per_sim_s"] for r in blown], [1e1] * len(blown), color=color, marker="x")
+                ax.scatter([run_time(r) for r in blown], [1e1] * len(blown), color=color, marker="x")
         ax.set_xscale("log")
         ax.set_yscale("log")
         ax.set_title(scene)
-        ax.set_xlabel("wall time per simulated second (s)")
+        ax.set_xlabel("CPU time per simulated second (s)")
         ax.set_ylabel("max joint separation (m)")
         ax.grid(True, which="both", alpha=0.3)
         ax.legend(fontsize=7)
@@ -88,10 +98,17 @@ def plot_series(runs, out):
             if r["scene"] != scene or "series" not in r:
                 continue
             color = KIND_STYLE.get(r["kind"], ("k", "."))[0]
+            label = r["kind"] + (f" (blew up at {r['blow_up_time_s']:.2f} s)" if r["blew_up"] else "")
             t = [p[0] for p in r["series"]]
-            axes[row][0].plot(t, [floor(p[1]) for p in r["series"]], color=color, label=r["kind"], lw=1)
+            axes[row][0].plot(t, [floor(p[1]) for p in r["series"]], color=color, label=label, lw=1)
             e0 = r["series"][0][3]
-            axes[row][1].plot(t, [p[3] - e0 for p in r["series"]], color=color, label=r["kind"], lw=1)
+            axes[row][1].plot(t, [p[3] - e0 for p in r["series"]], color=color, label=label, lw=1)
+        # energy axis: the range of the runs that did not blow up (a runaway would flatten every other curve)
+        kept = [p[3] - r["series"][0][3] for r in runs if r["scene"] == scene and "series" in r and not r["blew_up"]
+                for p in r["series"]]
+        if kept and min(kept) < max(kept):
+            pad = 0.1 * (max(kept) - min(kept))
+            axes[row][1].set_ylim(min(kept) - pad, max(kept) + pad)
         axes[row][0].set_yscale("log")
         axes[row][0].set_ylabel("max separation (m)")
         axes[row][0].set_title(f"{scene}: joint drift")
@@ -112,7 +129,7 @@ def fmt(v, spec=".1e"):
 
 def table(runs):
     lines = [
-        "| scene | kind | max sep (m) | max mis (°) | recovery (s) | limit past (rad) | final θ (rad) | energy drift | traj. error | blow-up (s) | ms / sim-s | rows |",
+        "| scene | kind | max sep (m) | max mis (°) | recovery (s) | limit past (rad) | final θ (rad) | energy drift | traj. error | blow-up (s) | CPU ms / sim-s | rows |",
         "|---|---|---|---|---|---|---|---|---|---|---|---|",
     ]
     for r in runs:
@@ -121,25 +138,36 @@ def table(runs):
             fmt(r["recovery_time_s"], ".3f"), fmt(r["limit_violation_rad"]), r["final_theta_rad"],
             fmt(r["energy_drift"], ".2g"),
             fmt(r["trajectory_error"]), fmt(r["blow_up_time_s"], ".2f") if r["blew_up"] else "–",
-            1e3 * r["wall_per_sim_s"], r["rows_per_step"]))
+            1e3 * run_time(r), r["rows_per_step"]))
     return "\n".join(lines)
 
 
 def main():
     p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    p.add_argument("--sweep", required=True)
-    p.add_argument("--series", required=True)
-    p.add_argument("--table", required=True)
-    p.add_argument("--images", required=True)
-    p.add_argument("--readme")
+    p.add_argument("--sweep", help="quathinge-compare JSON of a --sweep-dt/--sweep-iterations run")
+    p.add_argument("--series", help="quathinge-compare JSON of a --series run")
+    p.add_argument("--table", help="quathinge-compare JSON, one run per scene x kind")
+    p.add_argument("--images", default="demos/out", help="directory for the PNGs (default demos/out)")
+    p.add_argument("--markdown", default="demos/out/results.md", help="the results table as Markdown")
+    p.add_argument("--readme", help="README to write the table into, between the results markers")
     p.add_argument("--note", default="", help="one line said above the table (machine, command)")
     a = p.parse_args()
     os.makedirs(a.images, exist_ok=True)
-    plot_sweep(load(a.sweep), a.images)
-    plot_series(load(a.series), a.images)
+    wrote = []
+    if a.sweep:
+        plot_sweep(load(a.sweep), a.images)
+        wrote.append(os.path.join(a.images, "error_vs_time.png"))
+    if a.series:
+        plot_series(load(a.series), a.images)
+        wrote.append(os.path.join(a.images, "drift_energy.png"))
+    if not a.table:
+        print("wrote " + ", ".join(wrote))
+        return
     md = table(load(a.table))
-    with open(os.path.join(a.images, "results.md"), "w") as f:
+    os.makedirs(os.path.dirname(a.markdown) or ".", exist_ok=True)
+    with open(a.markdown, "w") as f:
         f.write(md + "\n")
+    wrote.append(a.markdown)
     if a.readme:
         with open(a.readme) as f:
             text = f.read()
@@ -149,7 +177,8 @@ def main():
             raise SystemExit("README has no <!-- results:begin --> ... <!-- results:end --> block")
         with open(a.readme, "w") as f:
             f.write(text)
-    print(f"wrote {a.images}/error_vs_time.png, drift_energy.png, results.md" + (f" and {a.readme}" if a.readme else ""))
+        wrote.append(a.readme)
+    print("wrote " + ", ".join(wrote))
 
 
 if __name__ == "__main__":

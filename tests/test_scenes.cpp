@@ -101,11 +101,101 @@ TEST(Scenes, MetricsMeasureHandComputedErrors)
 	EXPECT_NEAR(m.limitViolation, 0.3, kAngleTol);
 	EXPECT_NEAR(m.finalTheta, 0.5, kAngleTol);
 	EXPECT_NEAR(m.maxMisalignmentDeg, 0.0, 1e-3);
+	// The child's pivot built 0.1 m from the parent's: separation exactly 0.1 m at every step, max and RMS.
+	SceneSpec apart = frozen(btQuaternion::getIdentity());
+	apart.joints[0].childPivotOffset = btVector3(0, btScalar(0.1), 0);
+	const double kLengthTol = 1e-6;  // m, float round-off of a 1 m pose
+	m = runScene(apart, Kind::Stock, settings);
+	EXPECT_NEAR(m.maxSeparation, 0.1, kLengthTol);
+	EXPECT_NEAR(m.rmsSeparation, 0.1, kLengthTol);
+	EXPECT_NEAR(m.maxMisalignmentDeg, 0.0, 1e-3);
+	EXPECT_EQ(m.steps, 6);  // 0.1 s at 60 Hz
+	EXPECT_EQ(m.rowsPerStep, 5);  // stock hinge without limit or motor: 3 point rows + 2 angular rows
 	EXPECT_FALSE(isTree([] {
 		SceneSpec loop = makeScene("four_bar");
 		return loop;
 	}()));
 	EXPECT_TRUE(isTree(makeScene("chain10")));
+}
+
+// One free body falling from rest, no joint: semi-implicit Euler (v += g h, then x += v h) puts it at
+// x_n = −½ g h² n(n+1), so after t = n h its energy has drifted by ½ m g² h t and it is ½ g t (h − h/16) from
+// the fine-step run. Hand-computed values for the energy and trajectory metrics and the blow-up detector.
+SceneSpec freeFall()
+{
+	SceneSpec s;
+	s.name = "free_fall";
+	BodySpec b;
+	b.mass = 1;
+	s.bodies = {b};
+	s.gravity = btVector3(0, -10, 0);
+	s.conservative = true;
+	s.reference = Reference::FineStep;
+	s.duration = 1;
+	return s;
+}
+
+TEST(Scenes, EnergyTrajectoryAndBlowUpMetricsOnFreeFall)
+{
+	const double g = 10, h = 1.0 / 60, t = 1;
+	RunSettings settings;  // 60 Hz
+	const Metrics m = runScene(freeFall(), Kind::Quaternion, settings);
+	ASSERT_EQ(m.steps, 60);
+	const double kRelTol = 1e-3;  // float positions of ~5 m
+	// energy scale of one body: m g · 1 m (the scene's extent, at least 1 m) = 10 J
+	EXPECT_NEAR(m.energyDrift, 0.5 * g * g * h * t / (g * 1), kRelTol * 0.0833);
+	EXPECT_NEAR(m.trajectoryError, 0.5 * g * t * (h - h / 16), kRelTol * 0.078);
+	EXPECT_FALSE(m.blewUp);
+	EXPECT_EQ(m.rowsPerStep, 0);
+	// thrown at 2·10⁴ m/s: past the runaway bound (10⁴ m/s) at the first step
+	SceneSpec thrown = freeFall();
+	thrown.bodies[0].linearVelocity = btVector3(2e4, 0, 0);
+	const Metrics b = runScene(thrown, Kind::Stock, settings);
+	EXPECT_TRUE(b.blewUp);
+	EXPECT_NEAR(b.blowUpTime, h, 1e-12);
+}
+
+TEST(Scenes, DrivesAreTorquesAtEveryStep)
+{
+	// The wide-limit bar's 20 N·m motor at 6 rad/s: every kind reaches the same angle at 60 and at 240 Hz (the
+	// drive is a torque, turned into an impulse per step by each kind, not an impulse fixed for 60 Hz).
+	const SceneSpec scene = makeScene("limit_wide");
+	for (Kind kind : {Kind::Stock, Kind::Generic6Dof2, Kind::Quaternion, Kind::MultiBody})
+	{
+		RunSettings settings;
+		settings.reference = false;
+		settings.duration = 0.5;
+		const Metrics slow = runScene(scene, kind, settings);
+		settings.dt = 1.0 / 240;
+		const Metrics fast = runScene(scene, kind, settings);
+		const double kAngleTol = 0.05;  // rad: the spin-up (0.03 s) is resolved differently by the two steps
+		EXPECT_NEAR(slow.finalTheta, 2.9, 0.1) << kindName(kind);  // ≈ 6 rad/s × 0.5 s, less the spin-up
+		EXPECT_NEAR(slow.finalTheta, fast.finalTheta, kAngleTol) << kindName(kind);
+	}
+}
+
+TEST(Scenes, LimitsAndServosMeanTheSameAngleInEveryKind)
+{
+	// θ is the child's turn about +axis in every kind (6dof2's own angle is −θ, stock's with useReferenceFrameA =
+	// false too): an asymmetric stop is met on the side it was given, and the servo lifts to +1.2 rad.
+	SceneSpec stop = makeScene("limit_hit");
+	stop.joints[0].lower = btScalar(-0.3);
+	stop.joints[0].upper = btScalar(0.6);
+	stop.bodies[0].angularVelocity = btVector3(0, 3, 0);  // reaches the upper stop after 0.2 s
+	const SceneSpec lift = makeScene("motor_lift");
+	RunSettings settings;
+	settings.reference = false;
+	for (Kind kind : allKinds())
+	{
+		// at 0.25 s: at the upper stop (0.6), or bounced off it (stock's limit is elastic: 0.45); a stop mirrored to
+		// [−0.6, 0.3] would give 0.3 or less
+		settings.duration = 0.25;
+		const Metrics m = runScene(stop, kind, settings);
+		EXPECT_NEAR(m.finalTheta, 0.525, 0.1) << kindName(kind);  // rad
+		settings.duration = 2.5;                                  // 1.2 rad at 2 rad/s, then held
+		const Metrics l = runScene(lift, kind, settings);
+		EXPECT_NEAR(l.finalTheta, 1.2, 0.06) << kindName(kind);   // rad: held against gravity within 3°
+	}
 }
 
 TEST(Scenes, PendulumPeriodWithinHalfAPercentAt240Hz)

@@ -35,13 +35,13 @@ void writeCsv(const std::string& path, const std::vector<Metrics>& results)
 	std::ofstream out(path);
 	out << "scene,kind,dt,iterations,skipped,max_separation_m,rms_separation_m,max_misalignment_deg,"
 		   "rms_misalignment_deg,recovery_time_s,limit_violation_rad,final_theta_rad,energy_drift,trajectory_error,reference,blew_up,"
-		   "blow_up_time_s,wall_per_sim_s,"
+		   "blow_up_time_s,wall_per_sim_s,cpu_per_sim_s,"
 		   "rows_per_step,steps\n";
 	for (const Metrics& m : results)
 		out << m.scene << ',' << m.kind << ',' << m.dt << ',' << m.iterations << ",\"" << m.skipped << "\","
 			<< m.maxSeparation << ',' << m.rmsSeparation << ',' << m.maxMisalignmentDeg << ',' << m.rmsMisalignmentDeg
 			<< ',' << m.recoveryTime << ',' << m.limitViolation << ',' << m.finalTheta << ',' << m.energyDrift << ',' << m.trajectoryError << ",\"" << m.reference << "\"," << m.blewUp << ','
-			<< m.blowUpTime << ',' << m.wallPerSimSecond << ',' << m.rowsPerStep << ',' << m.steps << '\n';
+			<< m.blowUpTime << ',' << m.wallPerSimSecond << ',' << m.cpuPerSimSecond << ',' << m.rowsPerStep << ',' << m.steps << '\n';
 }
 
 void writeJson(const std::string& path, const std::vector<Metrics>& results)
@@ -67,6 +67,7 @@ void writeJson(const std::string& path, const std::vector<Metrics>& results)
 							{"blew_up", m.blewUp},
 							{"blow_up_time_s", m.blowUpTime},
 							{"wall_per_sim_s", m.wallPerSimSecond},
+							{"cpu_per_sim_s", m.cpuPerSimSecond},
 							{"rows_per_step", m.rowsPerStep},
 							{"steps", m.steps}};
 		if (!m.series.empty())
@@ -98,7 +99,7 @@ int main(int argc, char** argv)
 	bool noReference = false, series = false, list = false;
 	long soak = 0;
 	app.add_option("-s,--scenes", scenes, "scene names (--list shows them), or URDF paths")->capture_default_str();
-	app.add_option("-k,--kinds", kinds, "joint kinds: stock 6dof2 quaternion quaternion+stab")->capture_default_str();
+	app.add_option("-k,--kinds", kinds, "joint kinds: stock 6dof2 quaternion quaternion+stab multibody")->capture_default_str();
 	app.add_option("--dt", dt, "time step (s)")->capture_default_str()->check(CLI::PositiveNumber);
 	app.add_option("-i,--iterations", iterations, "solver iterations")->capture_default_str()->check(CLI::PositiveNumber);
 	app.add_option("-d,--duration", duration, "simulated seconds (default: each scene's own)");
@@ -183,9 +184,9 @@ int main(int argc, char** argv)
 	for (std::thread& t : threads) t.join();
 	if (tty) std::cerr << '\n';
 
-	std::cout << fmt::format("{:<16} {:<16} {:>8} {:>4} {:>10} {:>10} {:>10} {:>8} {:>9} {:>10} {:>10} {:>9} {:>9} {:>6}\n",
+	std::cout << fmt::format("{:<16} {:<16} {:>8} {:>4} {:>10} {:>10} {:>10} {:>8} {:>9} {:>10} {:>10} {:>9} {:>9} {:>9} {:>6}\n",
 							 "scene", "kind", "dt", "it", "max sep m", "rms sep m", "max mis°", "recov s", "limit rad",
-							 "energy", "traj err", "blow-up s", "ms/sim-s", "rows");
+							 "energy", "traj err", "blow-up s", "wall ms/s", "cpu ms/s", "rows");
 	for (const Metrics& m : results)
 	{
 		if (!m.skipped.empty())
@@ -193,13 +194,17 @@ int main(int argc, char** argv)
 			std::cout << fmt::format("{:<16} {:<16} skipped: {}\n", m.scene, m.kind, m.skipped);
 			continue;
 		}
-		std::cout << fmt::format("{:<16} {:<16} {:>8.5f} {:>4} {:>10} {:>10} {:>10} {:>8} {:>9} {:>10} {:>10} {:>9} {:>9.2f} {:>6.1f}\n",
+		std::cout << fmt::format("{:<16} {:<16} {:>8.5f} {:>4} {:>10} {:>10} {:>10} {:>8} {:>9} {:>10} {:>10} {:>9} {:>9.2f} {:>9.2f} {:>6.1f}\n",
 								 m.scene, m.kind, m.dt, m.iterations, figure(m.maxSeparation), figure(m.rmsSeparation),
 								 figure(m.maxMisalignmentDeg), figure(m.recoveryTime, "{:.3f}"),
 								 figure(m.limitViolation, "{:.1e}"), figure(m.energyDrift), figure(m.trajectoryError),
 								 m.blewUp ? fmt::format("{:.2f}", m.blowUpTime) : "-", 1e3 * m.wallPerSimSecond,
-								 m.rowsPerStep);
+								 1e3 * m.cpuPerSimSecond, m.rowsPerStep);
 	}
+	std::cout << "\ntrajectory reference per scene:\n";
+	for (size_t i = 0; i < results.size(); ++i)
+		if (results[i].skipped.empty() && (i == 0 || results[i].scene != results[i - 1].scene))
+			std::cout << fmt::format("  {:<16} {}\n", results[i].scene, results[i].reference);
 	if (soak > 0)
 	{
 		std::cout << "\nsoak: steps, blow-up, energy drift, resident memory at the first and last of 20 samples (kB)\n";
@@ -221,7 +226,8 @@ int main(int argc, char** argv)
 				return 1;
 			}
 	std::cout << fmt::format("\nwrote {0}/results.csv and {0}/results.json ({1} runs). energy: max |E-E0| / energy "
-							 "scale; traj err: m against the fine-step reference, or relative period error.\n",
+							 "scale; traj err: m against the fine-step reference, or relative period error; wall/cpu ms/s: "
+							 "milliseconds of wall / this thread's CPU time per simulated second; rows: solver rows per step.\n",
 							 out, results.size());
 	return 0;
 }

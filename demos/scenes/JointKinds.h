@@ -1,6 +1,7 @@
 // Joint kinds: what a Bullet user would pick for a hinge, each built from the same scene description, and the
-// measured run of a scene with one kind. A new kind (another stabilizer, another solver) is one more case in
-// JointKinds.cpp; the scenes do not change.
+// measured run of a scene with one kind. A new maximal-coordinate kind (another stabilizer: a btActionInterface
+// added to the world; another constraint) is one more JointFactory (JointFactory.h) and one more name here; the
+// scenes do not change.
 #ifndef QUATHINGE_JOINT_KINDS_H
 #define QUATHINGE_JOINT_KINDS_H
 
@@ -60,6 +61,7 @@ struct Metrics
 	bool blewUp = false;
 	double blowUpTime = -1;              ///< s
 	double wallPerSimSecond = 0;         ///< s of wall time per simulated second (the scene alone, no reference)
+	double cpuPerSimSecond = 0;          ///< s of this thread's CPU time per simulated second (immune to other load)
 	double rowsPerStep = 0;              ///< solver rows of the compared joints, mean per step
 	int steps = 0;
 	long rssFirstKb = -1;                ///< resident memory at the first sample (kB), soak runs

@@ -17,12 +17,21 @@ namespace quathinge
 {
 namespace scenes
 {
+/// A body's collision shape (it also gives the inertia when BodySpec::localInertia is zero).
+enum class Shape
+{
+	Box,      ///< btBoxShape(halfExtents)
+	Capsule,  ///< btCapsuleShape along local y: radius halfExtents.x, total length 2·halfExtents.y (caps included)
+	Sphere    ///< btSphereShape(halfExtents.x)
+};
+
 struct BodySpec
 {
 	btScalar mass = 1;                                       ///< kg; 0 makes a static body
 	/// Principal moments of inertia (kg·m²) in the body frame; zero: those of the box (URDF bodies give their own).
 	btVector3 localInertia = btVector3(0, 0, 0);
-	btVector3 halfExtents = btVector3(btScalar(0.05), btScalar(0.25), btScalar(0.05));  ///< box, m
+	Shape shape = Shape::Box;
+	btVector3 halfExtents = btVector3(btScalar(0.05), btScalar(0.25), btScalar(0.05));  ///< m (see Shape)
 	btTransform pose = btTransform::getIdentity();          ///< world pose at t = 0
 	btVector3 linearVelocity = btVector3(0, 0, 0);         ///< m/s
 	btVector3 angularVelocity = btVector3(0, 0, 0);        ///< rad/s (world)
@@ -32,7 +41,8 @@ struct BodySpec
 enum class Drive
 {
 	None,
-	Velocity,  ///< target angular velocity `target` (rad/s) with at most `maxEffort` N·m·s per step
+	Velocity,  ///< target angular velocity `target` (rad/s) with at most `maxEffort` N·m (each kind converts it to its
+	           ///< own unit: an impulse of maxEffort·h per step for btHingeConstraint's motor and the multibody motor)
 	Servo      ///< target angle `target` (rad) at most `maxSpeed` rad/s with at most `maxEffort` N·m
 };
 
@@ -46,6 +56,9 @@ struct JointSpec
 	/// Rotation applied to the child's joint frame: the joint starts misaligned by it (flipped starts). Identity
 	/// for an assembled joint.
 	btQuaternion childFrameTwist = btQuaternion::getIdentity();
+	/// Offset (m, world, at t = 0) of the child's pivot from `pivot`: the joint starts separated by it. Zero for an
+	/// assembled joint.
+	btVector3 childPivotOffset = btVector3(0, 0, 0);
 	bool hasLimit = false;
 	btScalar lower = 0, upper = 0;  ///< rad (θ)
 	Drive drive = Drive::None;

@@ -57,7 +57,7 @@ SceneSpec limitWideScene()
 	s.joints[0].upper = 3 * SIMD_PI;
 	s.joints[0].drive = Drive::Velocity;
 	s.joints[0].target = 6;
-	s.joints[0].maxEffort = 5;
+	s.joints[0].maxEffort = 20;  // N·m: reaches 6 rad/s within 0.03 s, then pushes the stop with 20 N·m
 	s.duration = 3;
 	return s;
 }

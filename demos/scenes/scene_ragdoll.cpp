@@ -1,5 +1,6 @@
-// A ragdoll falling onto the ground: hinged knees and elbows, and — so that every joint is of the kind compared —
-// hinges also at the hips, shoulders and neck (about the body's lateral axis). Joints together with contacts.
+// A ragdoll falling onto the ground: capsule torso and limbs (btCapsuleShape), a sphere head; hinged knees and elbows,
+// and — so that every joint is of the kind compared — the same hinge kind also at the hips, shoulders and neck (about
+// the body's lateral axis), not btConeTwistConstraint. Joints together with contacts.
 #include "SceneSpec.h"
 
 #include <random>
@@ -12,30 +13,32 @@ SceneSpec ragdollScene(unsigned seed)
 {
 	SceneSpec s;
 	s.name = "ragdoll";
-	s.description = "ragdoll (10 boxes, 9 hinges) dropped from 1.5 m onto the ground, tumbling";
+	s.description = "ragdoll (9 capsules and a sphere, 9 hinges with limits) dropped from 1.5 m onto the ground, tumbling";
 	std::mt19937 rng(seed);
 	std::uniform_real_distribution<double> spin(-2, 2);
 	const btScalar y0 = btScalar(1.5);
-	auto box = [&](btScalar mass, btVector3 half, btVector3 centre) {
+	auto body = [&](btScalar mass, Shape shape, btVector3 half, btVector3 centre) {
 		BodySpec b;
 		b.mass = mass;
+		b.shape = shape;
 		b.halfExtents = half;
 		b.pose = btTransform(btQuaternion::getIdentity(), centre + btVector3(0, y0, 0));
 		b.collides = true;
 		s.bodies.push_back(b);
 		return int(s.bodies.size()) - 1;
 	};
-	const btVector3 limb(btScalar(0.06), btScalar(0.2), btScalar(0.06));
-	const int torso = box(20, btVector3(btScalar(0.2), btScalar(0.3), btScalar(0.1)), btVector3(0, 0, 0));
-	const int head = box(4, btVector3(btScalar(0.1), btScalar(0.1), btScalar(0.1)), btVector3(0, btScalar(0.42), 0));
-	const int upperArmL = box(2, limb, btVector3(btScalar(-0.28), btScalar(0.1), 0));
-	const int lowerArmL = box(1, limb, btVector3(btScalar(-0.28), btScalar(-0.32), 0));
-	const int upperArmR = box(2, limb, btVector3(btScalar(0.28), btScalar(0.1), 0));
-	const int lowerArmR = box(1, limb, btVector3(btScalar(0.28), btScalar(-0.32), 0));
-	const int thighL = box(5, limb, btVector3(btScalar(-0.1), btScalar(-0.52), 0));
-	const int shinL = box(3, limb, btVector3(btScalar(-0.1), btScalar(-0.94), 0));
-	const int thighR = box(5, limb, btVector3(btScalar(0.1), btScalar(-0.52), 0));
-	const int shinR = box(3, limb, btVector3(btScalar(0.1), btScalar(-0.94), 0));
+	const btVector3 limb(btScalar(0.06), btScalar(0.2), btScalar(0.06));  // capsule: radius 0.06 m, 0.4 m long
+	auto capsule = [&](btScalar mass, btVector3 half, btVector3 centre) { return body(mass, Shape::Capsule, half, centre); };
+	const int torso = capsule(20, btVector3(btScalar(0.15), btScalar(0.3), btScalar(0.15)), btVector3(0, 0, 0));
+	const int head = body(4, Shape::Sphere, btVector3(btScalar(0.1), btScalar(0.1), btScalar(0.1)), btVector3(0, btScalar(0.42), 0));
+	const int upperArmL = capsule(2, limb, btVector3(btScalar(-0.28), btScalar(0.1), 0));
+	const int lowerArmL = capsule(1, limb, btVector3(btScalar(-0.28), btScalar(-0.32), 0));
+	const int upperArmR = capsule(2, limb, btVector3(btScalar(0.28), btScalar(0.1), 0));
+	const int lowerArmR = capsule(1, limb, btVector3(btScalar(0.28), btScalar(-0.32), 0));
+	const int thighL = capsule(5, limb, btVector3(btScalar(-0.1), btScalar(-0.52), 0));
+	const int shinL = capsule(3, limb, btVector3(btScalar(-0.1), btScalar(-0.94), 0));
+	const int thighR = capsule(5, limb, btVector3(btScalar(0.1), btScalar(-0.52), 0));
+	const int shinR = capsule(3, limb, btVector3(btScalar(0.1), btScalar(-0.94), 0));
 	auto hinge = [&](int parent, int child, btVector3 pivot, btScalar lo, btScalar hi) {
 		JointSpec j;
 		j.parent = parent;

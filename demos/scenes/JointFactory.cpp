@@ -1,0 +1,203 @@
+// The maximal-coordinate joint kinds (JointFactory.h): stock btHingeConstraint, btGeneric6DofSpring2Constraint set
+// up as a hinge, btQuaternionHingeConstraint, and the quaternion hinge with btQuaternionHingeStabilizer added to the
+// world. Angles are θ throughout (SceneSpec.h): each factory maps θ to its constraint's own angle.
+#include "JointFactory.h"
+
+#include "quathinge/btQuaternionHingeConstraint.h"
+#include "quathinge/btQuaternionHingeStabilizer.h"
+
+#include <stdexcept>
+
+namespace quathinge
+{
+namespace scenes
+{
+std::vector<btTypedConstraint*> JointFactory::replaceStockHinges(btDynamicsWorld& world,
+																 const btAlignedObjectArray<btHingeConstraint*>& stock,
+																 std::vector<StepHook>& hooks) const
+{
+	std::vector<btTypedConstraint*> added;
+	for (int i = 0; i < stock.size(); ++i)
+	{
+		btTypedConstraint* replacement = convertStock(*stock[i], hooks);
+		if (!replacement) continue;
+		world.removeConstraint(stock[i]);
+		world.addConstraint(replacement, true);
+		added.push_back(replacement);
+	}
+	return added;
+}
+
+namespace
+{
+// A stock hinge's limits on θ: its angle with useReferenceFrameA = false is −θ, so they map to [−high, −low].
+struct StockLimits
+{
+	btScalar sign, lower, upper;
+};
+StockLimits stockLimitsOnTheta(const btHingeConstraint& h)
+{
+	const btScalar sign = h.getUseReferenceFrameA() ? 1 : -1;
+	btScalar lo = h.getLowerLimit() * sign, hi = h.getUpperLimit() * sign;
+	if (lo > hi) btSwap(lo, hi);
+	return {sign, lo, hi};
+}
+
+class StockFactory : public JointFactory
+{
+public:
+	btTypedConstraint* makeHinge(const JointSpec& j, btRigidBody& a, btRigidBody& b, const btTransform& fa,
+								 const btTransform& fb, std::vector<StepHook>& hooks) const override
+	{
+		auto* h = new btHingeConstraint(a, b, fa, fb, true);  // useReferenceFrameA: getHingeAngle() = θ
+		if (j.hasLimit) h->setLimit(j.lower, j.upper);
+		if (j.drive == Drive::Velocity)
+		{
+			h->enableAngularMotor(true, j.target, 0);
+			hooks.push_back([h, torque = j.maxEffort](btScalar dt) { h->setMaxMotorImpulse(torque * dt); });
+		}
+		if (j.drive == Drive::Servo)
+		{
+			// stock's way to hold an angle: set the motor target every tick, clamped to the servo's speed
+			h->enableMotor(true);
+			hooks.push_back([h, j](btScalar dt) {
+				h->setMaxMotorImpulse(j.maxEffort * dt);
+				h->setMotorTarget(j.target, dt);
+				h->setMotorTargetVelocity(btMax(-j.maxSpeed, btMin(j.maxSpeed, h->getMotorTargetVelocity())));
+			});
+		}
+		return h;
+	}
+	btTypedConstraint* convertStock(btHingeConstraint&, std::vector<StepHook>&) const override { return nullptr; }
+};
+
+// btGeneric6DofSpring2Constraint set up as a hinge about its frames' z axis: the three linear and the x, y angular
+// axes locked, z free or limited. Its z angle is −θ: matrixToEulerXYZ reads the relative rotation A⁻¹B through
+// btGetMatrixElem, which indexes column-major, so z = atan2(−R₁₀, R₀₀) = −θ; and its motor row drives (ω_A − ω_B)·z,
+// which is d(−θ)/dt. So a θ limit [lo, hi] is [−hi, −lo] on it, and targets go in negated.
+class Generic6Dof2Factory : public JointFactory
+{
+public:
+	btTypedConstraint* makeHinge(const JointSpec& j, btRigidBody& a, btRigidBody& b, const btTransform& fa,
+								 const btTransform& fb, std::vector<StepHook>&) const override
+	{
+		auto* d = hinge(a, b, fa, fb, j.hasLimit, j.lower, j.upper);
+		if (j.drive == Drive::Velocity)
+		{
+			d->enableMotor(5, true);
+			d->setTargetVelocity(5, -j.target);
+			d->setMaxMotorForce(5, j.maxEffort);  // N·m (the constraint turns it into an impulse per step)
+		}
+		else if (j.drive == Drive::Servo)
+		{
+			d->enableMotor(5, true);
+			d->setServo(5, true);
+			d->setServoTarget(5, -j.target);
+			d->setTargetVelocity(5, j.maxSpeed);  // a speed: the servo picks the sign
+			d->setMaxMotorForce(5, j.maxEffort);
+		}
+		return d;
+	}
+	btTypedConstraint* convertStock(btHingeConstraint& h, std::vector<StepHook>& hooks) const override
+	{
+		const StockLimits limits = stockLimitsOnTheta(h);
+		auto* d = hinge(h.getRigidBodyA(), h.getRigidBodyB(), h.getAFrame(), h.getBFrame(), h.hasLimit(), limits.lower,
+						limits.upper);
+		if (h.getEnableAngularMotor())
+		{
+			d->enableMotor(5, true);
+			d->setTargetVelocity(5, -limits.sign * h.getMotorTargetVelocity());  // stock drives sign·θ̇; this, −θ̇
+			// the file's motor is an impulse per step: the same impulse at this run's step, as a torque
+			hooks.push_back([d, impulse = h.getMaxMotorImpulse()](btScalar dt) { d->setMaxMotorForce(5, impulse / dt); });
+		}
+		return d;
+	}
+
+private:
+	static btGeneric6DofSpring2Constraint* hinge(btRigidBody& a, btRigidBody& b, const btTransform& fa,
+												 const btTransform& fb, bool hasLimit, btScalar lower, btScalar upper)
+	{
+		auto* d = new btGeneric6DofSpring2Constraint(a, b, fa, fb, RO_XYZ);
+		d->setLinearLowerLimit(btVector3(0, 0, 0));
+		d->setLinearUpperLimit(btVector3(0, 0, 0));
+		if (hasLimit)
+		{
+			d->setAngularLowerLimit(btVector3(0, 0, -upper));
+			d->setAngularUpperLimit(btVector3(0, 0, -lower));
+		}
+		else
+		{
+			d->setAngularLowerLimit(btVector3(0, 0, 1));  // z free (lower > upper)
+			d->setAngularUpperLimit(btVector3(0, 0, -1));
+		}
+		return d;
+	}
+};
+
+class QuaternionFactory : public JointFactory
+{
+public:
+	btTypedConstraint* makeHinge(const JointSpec& j, btRigidBody& a, btRigidBody& b, const btTransform& fa,
+								 const btTransform& fb, std::vector<StepHook>& hooks) const override
+	{
+		auto* q = new btQuaternionHingeConstraint(a, b, fa, fb, true);
+		if (j.hasLimit) q->setLimit(j.lower, j.upper);
+		if (j.drive == Drive::Velocity)
+		{
+			q->enableAngularMotor(true, j.target, 0);
+			hooks.push_back([q, torque = j.maxEffort](btScalar dt) { q->setMaxMotorImpulse(torque * dt); });
+		}
+		if (j.drive == Drive::Servo) q->setServoTarget(j.target, j.maxSpeed, j.maxEffort);
+		return q;
+	}
+	btTypedConstraint* convertStock(btHingeConstraint& h, std::vector<StepHook>&) const override
+	{
+		return new btQuaternionHingeConstraint(h);
+	}
+	std::vector<btTypedConstraint*> replaceStockHinges(btDynamicsWorld& world,
+													  const btAlignedObjectArray<btHingeConstraint*>& stock,
+													  std::vector<StepHook>&) const override
+	{
+		// what a Bullet user does with a loaded file: one call swaps every stock hinge for its quaternion hinge
+		// (btQuaternionHingeConstraint(const btHingeConstraint&) each); the removed stock hinges stay the loader's
+		btAlignedObjectArray<btQuaternionHingeConstraint*> added;
+		btAlignedObjectArray<btHingeConstraint*> removed;
+		const int replaced = btReplaceHingeConstraints(&world, &added, &removed);
+		if (replaced != stock.size())
+			throw std::runtime_error("btReplaceHingeConstraints replaced " + std::to_string(replaced) + " of " +
+									 std::to_string(stock.size()) + " stock hinges");
+		std::vector<btTypedConstraint*> joints;
+		for (int i = 0; i < added.size(); ++i) joints.push_back(added[i]);
+		return joints;
+	}
+};
+
+class StabilizedQuaternionFactory : public QuaternionFactory
+{
+public:
+	std::unique_ptr<btActionInterface> makeAction() const override
+	{
+		return std::unique_ptr<btActionInterface>(new btQuaternionHingeStabilizer);
+	}
+};
+}  // namespace
+
+const JointFactory* jointFactory(Kind kind)
+{
+	static const StockFactory stock;
+	static const Generic6Dof2Factory generic6Dof2;
+	static const QuaternionFactory quaternion;
+	static const StabilizedQuaternionFactory stabilized;
+	switch (kind)
+	{
+		case Kind::Stock: return &stock;
+		case Kind::Generic6Dof2: return &generic6Dof2;
+		case Kind::Quaternion: return &quaternion;
+		case Kind::QuaternionStabilized: return &stabilized;
+		case Kind::MultiBody: return nullptr;
+	}
+	return nullptr;
+}
+
+}  // namespace scenes
+}  // namespace quathinge

@@ -1,0 +1,104 @@
+// A scene's Bullet world for one joint kind (JointKinds.h), without the metrics: what runScene measures and what the
+// benchmark (demos/bench/) builds and steps. Defined in JointKinds.cpp.
+#ifndef QUATHINGE_SIMULATION_H
+#define QUATHINGE_SIMULATION_H
+
+#include "JointFactory.h"
+#include "JointKinds.h"
+#include "SceneSpec.h"
+
+#include <btBulletDynamicsCommon.h>
+
+#include <functional>
+#include <memory>
+#include <vector>
+
+class btMultiBody;
+class btMultiBodyConstraint;
+class btMultiBodyLinkCollider;
+class btBulletWorldImporter;
+class btQuaternionHingeStabilizer;
+
+namespace quathinge
+{
+namespace scenes
+{
+/// One measured joint: the two bodies and the joint frames in them (the same for every kind).
+struct MeasuredJoint
+{
+	btRigidBody* a;
+	btRigidBody* b;
+	btTransform frameA, frameB;
+	bool hasLimit = false;
+	double lower = 0, upper = 0;  // θ, rad
+	double theta = 0;             // continuous θ measured from the frames (independent of the kind's own angle)
+	bool thetaValid = false;
+};
+
+/// A world with one kind of joint in it: the scene's bodies, and its joints from the kind's factory (JointFactory.h)
+/// or, for the multibody kind, btMultiBody trees. Throws std::runtime_error for a scene the kind cannot build (multibody:
+/// loops, misaligned starts, .bullet files).
+class Simulation
+{
+public:
+	Simulation(const SceneSpec& scene, Kind kind);
+	~Simulation();
+	Simulation(const Simulation&) = delete;
+	Simulation& operator=(const Simulation&) = delete;
+	/// One internal step of dt (s) with that many solver iterations (stepSimulation(dt, 0, dt)).
+	void step(double dt, int iterations);
+	/// Solver rows of the compared joints at the last step.
+	int rows();
+	double energy() const;
+	bool finiteAndBounded() const;
+	std::vector<btVector3> positions() const;
+	/// The world (for the benchmark's counters: contacts, constraints).
+	btDiscreteDynamicsWorld& world() { return *m_world; }
+	/// The post-stabilizer (Kind::QuaternionStabilized), else null.
+	const btQuaternionHingeStabilizer* stabilizer() const;
+	std::vector<MeasuredJoint> joints;
+	std::vector<btRigidBody*> bodies;  // the scene's dynamic bodies, in scene order
+
+private:
+	void loadBulletFile(const SceneSpec& scene);
+	void buildMultiBodies(const SceneSpec& scene, btRigidBody* anchor);
+	void syncProxies();
+	Kind m_kind;
+	const JointFactory* m_factory;  // null for the multibody kind
+	btVector3 m_gravity;
+	std::unique_ptr<btDefaultCollisionConfiguration> m_config;
+	std::unique_ptr<btCollisionDispatcher> m_dispatcher;
+	std::unique_ptr<btDbvtBroadphase> m_broadphase;
+	std::unique_ptr<btConstraintSolver> m_solver;
+	std::unique_ptr<btDiscreteDynamicsWorld> m_world;
+	// Multibody kind: the multibodies, their constraints and colliders, and for each scene body a proxy rigid body
+	// (not in the world) that mirrors its link's state, so every metric reads the same btRigidBody interface.
+	struct LinkRef
+	{
+		btMultiBody* mb;
+		int link;  // −1: the base
+	};
+	std::vector<std::unique_ptr<btMultiBody>> m_multiBodies;
+	std::vector<std::unique_ptr<btMultiBodyConstraint>> m_mbConstraints;
+	std::vector<std::unique_ptr<btMultiBodyLinkCollider>> m_colliders;
+	std::vector<LinkRef> m_proxyOf;  // per scene body
+	int m_mbRows = 0;
+	std::vector<std::unique_ptr<btCollisionShape>> m_shapes;
+	std::vector<std::unique_ptr<btRigidBody>> m_ownedBodies;
+	std::vector<std::unique_ptr<btTypedConstraint>> m_ownedJoints;
+	std::vector<btTypedConstraint*> m_compared;  // the joints being compared (rows counted)
+	std::unique_ptr<btActionInterface> m_action;  // the kind's action (a post-stabilizer), if any
+	std::vector<StepHook> m_beforeStep;          // the kind's drive settings that depend on the step
+	// Only set when built with the Bullet world importer (QUATHINGE_HAVE_WORLD_IMPORTER, private to the scene
+	// library): the deleter is defined there, so this layout does not depend on that definition.
+	struct ImporterDeleter
+	{
+		void operator()(btBulletWorldImporter* importer) const;
+	};
+	std::unique_ptr<btBulletWorldImporter, ImporterDeleter> m_importer;
+};
+
+}  // namespace scenes
+}  // namespace quathinge
+
+#endif
