@@ -26,6 +26,7 @@ packages=(
   liburdfdom-dev liburdfdom-headers-dev libtinyxml2-dev  # URDF scenes
   python3 python3-matplotlib                  # report plots
   clang libclang-rt-14-dev llvm valgrind     # fuzzing (libFuzzer + sanitizer runtimes, symbolizer); memory checks
+  libglfw3-dev libimgui-dev libstb-dev xvfb   # the viewer (optional to the build) and its headless test
 )
 
 missing=()
