@@ -158,6 +158,25 @@ void pixelRay(const Camera& cam, double x, double y, int w, int h, btVector3& fr
 	to = eye + (f + s * (nx * right) + u * (ny * top)) * btScalar(kFar);
 }
 
+// The pixel (from the top left) where a world point appears in a viewport of size w × h (the inverse of pixelRay).
+bool projectToPixel(const Camera& cam, const btVector3& point, int w, int h, double& x, double& y)
+{
+	const btVector3 eye = cam.eye();
+	const btVector3 f = (cam.target - eye).normalized();
+	btVector3 s = f.cross(btVector3(0, 1, 0));
+	if (s.length2() < 1e-8f) s = btVector3(1, 0, 0);
+	s.normalize();
+	const btVector3 u = s.cross(f);
+	const btVector3 d = point - eye;
+	const double depth = d.dot(f);
+	if (depth <= kNear) return false;
+	const double top = std::tan(kFovY / 2), right = top * double(w) / double(h);
+	const double nx = d.dot(s) / depth / right, ny = d.dot(u) / depth / top;
+	x = (nx + 1) * w / 2;
+	y = (1 - ny) * h / 2;
+	return true;
+}
+
 // ---- Drawing bodies ------------------------------------------------------------------------------------------------
 
 void drawBox(const btVector3& h)
@@ -313,6 +332,7 @@ struct Options
 	std::string strip;
 	std::vector<int> stripFrames = {30, 60, 90, 120};
 	bool noUi = false;
+	std::vector<double> drag;  // scripted drag: pane, body, dx, dy (px over 30 steps from step 10)
 	int width = 1280, height = 720;
 };
 
@@ -560,6 +580,13 @@ public:
 
 	void cursor(GLFWwindow* window, double x, double y)
 	{
+		int w, h;
+		glfwGetWindowSize(window, &w, &h);
+		cursorAt(w, h, x, y);
+	}
+
+	void cursorAt(int w, int h, double x, double y)
+	{
 		if (m_orbiting)
 		{
 			m_camera.yaw -= float(x - m_lastX) * 0.01f;
@@ -568,8 +595,6 @@ public:
 		for (Pane& p : m_panes)
 			if (p.pick)
 			{
-				int w, h;
-				glfwGetWindowSize(window, &w, &h);
 				const int paneWidth = (w - m_left) / std::max(1, int(m_panes.size()));
 				btVector3 from, to;
 				pixelRay(m_camera, x - m_left - m_pickPane * paneWidth, y, paneWidth, h, from, to);
@@ -585,6 +610,30 @@ public:
 	{
 		int w, h;
 		glfwGetWindowSize(window, &w, &h);
+		pickAtPixel(w, h, x, y);
+	}
+
+	// The scripted drag (--drag-body): where scene body `body` of pane `pane` is on the screen, or false.
+	bool bodyPixel(int w, int h, int pane, int body, double& x, double& y) const
+	{
+		if (pane < 0 || pane >= int(m_panes.size()) || !m_panes[size_t(pane)].sim) return false;
+		const Simulation& sim = *m_panes[size_t(pane)].sim;
+		if (body < 0 || body >= int(sim.bodies.size())) return false;
+		const int paneWidth = (w - m_left) / std::max(1, int(m_panes.size()));
+		if (!projectToPixel(m_camera, sim.bodies[size_t(body)]->getCenterOfMassPosition(), paneWidth, h, x, y)) return false;
+		x += m_left + pane * paneWidth;
+		return true;
+	}
+
+	const btRigidBody* picked() const
+	{
+		for (const Pane& p : m_panes)
+			if (p.picked) return p.picked;
+		return nullptr;
+	}
+
+	void pickAtPixel(int w, int h, double x, double y)
+	{
 		const int paneWidth = (w - m_left) / std::max(1, int(m_panes.size()));
 		if (x < m_left || m_panes.empty()) return;
 		const int index = std::min(int(m_panes.size()) - 1, int(x - m_left) / std::max(1, paneWidth));
@@ -592,8 +641,14 @@ public:
 		if (!p.sim) return;
 		btVector3 from, to;
 		pixelRay(m_camera, x - m_left - index * paneWidth, y, paneWidth, h, from, to);
+		// every object, whatever its collision filter (the scenes turn contacts off between jointed links, which
+		// would hide them from a broadphase ray query too)
 		btCollisionWorld::ClosestRayResultCallback hit(from, to);
-		p.sim->world().rayTest(from, to, hit);
+		const btTransform rayFrom(btQuaternion::getIdentity(), from), rayTo(btQuaternion::getIdentity(), to);
+		const btCollisionObjectArray& objects = p.sim->world().getCollisionObjectArray();
+		for (int i = 0; i < objects.size(); ++i)
+			btCollisionWorld::rayTestSingle(rayFrom, rayTo, objects[i], objects[i]->getCollisionShape(),
+											objects[i]->getWorldTransform(), hit);
 		btRigidBody* body = hit.hasHit() ? const_cast<btRigidBody*>(btRigidBody::upcast(hit.m_collisionObject)) : nullptr;
 		if (!body || body->isStaticOrKinematicObject()) return;
 		p.picked = body;
@@ -692,6 +747,9 @@ int main(int argc, char** argv)
 	app.add_option("--strip", o.strip, "write a frame strip (frames at --strip-frames, stacked) to this PNG and exit");
 	app.add_option("--strip-frames", o.stripFrames, "steps at which the strip's frames are taken")->delimiter(',');
 	app.add_flag("--no-ui", o.noUi, "no control panel (labels stay)");
+	app.add_option("--drag-body", o.drag, "scripted mouse drag (headless test of picking): pane,body,dx,dy — from step 10 "
+										  "the body is picked where it appears on screen and dragged dx, dy pixels over "
+										  "30 steps")->delimiter(',')->expected(4);
 	app.add_option("--size", o.width, "window width (the height is 9/16 of it)");
 	CLI11_PARSE(app, argc, argv);
 	o.height = o.width * 9 / 16;
@@ -738,12 +796,32 @@ int main(int argc, char** argv)
 		g_viewer = &viewer;
 		std::vector<unsigned char> strip;
 		size_t nextStrip = 0;
+		btVector3 dragStart(0, 0, 0);
 		while (!glfwWindowShouldClose(window))
 		{
 			glfwPollEvents();
 			viewer.frame();
 			int width, height;
 			glfwGetFramebufferSize(window, &width, &height);
+			if (o.drag.size() == 4)
+			{
+				// the same path as the mouse: a pixel, the ray through it, the pick constraint, then cursor moves
+				static double startX = 0, startY = 0;
+				const int s = viewer.steps();
+				if (s == 10 && viewer.bodyPixel(width, height, int(o.drag[0]), int(o.drag[1]), startX, startY))
+				{
+					viewer.pickAtPixel(width, height, startX, startY);
+					const btRigidBody* body = viewer.picked();
+					std::printf("quathinge-viewer: drag from (%.0f, %.0f): %s\n", startX, startY,
+								body ? "picked a body" : "nothing under the cursor");
+					if (body) dragStart = body->getCenterOfMassPosition();
+				}
+				else if (s > 10 && s <= 40)
+					viewer.cursorAt(width, height, startX + o.drag[2] * (s - 10) / 30, startY + o.drag[3] * (s - 10) / 30);
+				if (s == 40 && viewer.picked())
+					std::printf("quathinge-viewer: the picked body moved %.3f m while dragged\n",
+								double((viewer.picked()->getCenterOfMassPosition() - dragStart).length()));
+			}
 			ImGui_ImplOpenGL2_NewFrame();
 			ImGui_ImplGlfw_NewFrame();
 			ImGui::NewFrame();
