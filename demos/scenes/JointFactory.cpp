@@ -175,10 +175,16 @@ public:
 class StabilizedQuaternionFactory : public QuaternionFactory
 {
 public:
+	explicit StabilizedQuaternionFactory(bool conserveEnergy) : m_conserveEnergy(conserveEnergy) {}
 	std::unique_ptr<btActionInterface> makeAction() const override
 	{
-		return std::unique_ptr<btActionInterface>(new btQuaternionHingeStabilizer);
+		btQuaternionHingeStabilizerSettings settings;
+		settings.conserveEnergy = m_conserveEnergy;
+		return std::unique_ptr<btActionInterface>(new btQuaternionHingeStabilizer(settings));
 	}
+
+private:
+	bool m_conserveEnergy;
 };
 }  // namespace
 
@@ -187,13 +193,15 @@ const JointFactory* jointFactory(Kind kind)
 	static const StockFactory stock;
 	static const Generic6Dof2Factory generic6Dof2;
 	static const QuaternionFactory quaternion;
-	static const StabilizedQuaternionFactory stabilized;
+	static const StabilizedQuaternionFactory stabilized(false);
+	static const StabilizedQuaternionFactory stabilizedEnergy(true);
 	switch (kind)
 	{
 		case Kind::Stock: return &stock;
 		case Kind::Generic6Dof2: return &generic6Dof2;
 		case Kind::Quaternion: return &quaternion;
 		case Kind::QuaternionStabilized: return &stabilized;
+		case Kind::QuaternionStabilizedEnergy: return &stabilizedEnergy;
 		case Kind::MultiBody: return nullptr;
 	}
 	return nullptr;

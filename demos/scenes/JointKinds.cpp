@@ -42,6 +42,7 @@ std::string kindName(Kind kind)
 		case Kind::Quaternion: return "quaternion";
 		case Kind::QuaternionStabilized: return "quaternion+stab";
 		case Kind::MultiBody: return "multibody";
+		case Kind::QuaternionStabilizedEnergy: return "quaternion+stab+energy";
 	}
 	return "?";
 }
@@ -50,8 +51,9 @@ Kind parseKind(const std::string& name)
 {
 	for (Kind k : allKinds())
 		if (kindName(k) == name) return k;
+	if (name == kindName(Kind::QuaternionStabilizedEnergy)) return Kind::QuaternionStabilizedEnergy;
 	throw std::invalid_argument("parseKind: kind: unknown joint kind '" + name +
-								"' (stock, 6dof2, quaternion, quaternion+stab, multibody)");
+								"' (stock, 6dof2, quaternion, quaternion+stab, multibody, quaternion+stab+energy)");
 }
 
 namespace

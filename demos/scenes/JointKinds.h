@@ -21,6 +21,9 @@ enum class Kind
 	Quaternion,            ///< btQuaternionHingeConstraint
 	QuaternionStabilized,  ///< btQuaternionHingeConstraint + btQuaternionHingeStabilizer
 	MultiBody,             ///< btMultiBody revolute joints (Featherstone, reduced coordinates): trees only
+	/// QuaternionStabilized with the stabilizer's conserveEnergy option: for conservative scenes only (not among
+	/// allKinds(): the energy table of demos/make_report.sh asks for it by name)
+	QuaternionStabilizedEnergy,
 };
 std::vector<Kind> allKinds();
 std::string kindName(Kind kind);

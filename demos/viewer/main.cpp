@@ -691,13 +691,6 @@ public:
 	int steps() const { return m_steps; }
 
 private:
-	static Kind parseKind(const std::string& name)
-	{
-		for (Kind k : allKinds())
-			if (kindName(k) == name) return k;
-		throw std::invalid_argument("unknown kind '" + name + "'");
-	}
-
 	Options m_opt;
 	std::vector<std::string> m_sceneNames;
 	std::vector<Kind> m_allKinds, m_kinds;
