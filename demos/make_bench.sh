@@ -38,6 +38,7 @@ report = open(sys.argv[1]).read().strip()
 report = report.replace("](scaling.png)", "](docs/images/bench_scaling.png)")
 # the report's own title becomes a sub-heading of the README section
 report = re.sub(r"^# .*\n", "", report, count=1).strip()
+report = re.sub(r"^## ", "### ", report, flags=re.M)  # sub-sections of the README's cost section
 readme = open("README.md").read()
 begin, end = "<!-- bench:begin -->", "<!-- bench:end -->"
 assert begin in readme and end in readme, "README.md has no bench markers"
