@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Regenerates every figure and the README's results table from fresh runs:
-#   bash demos/make_report.sh        (under a minute of runs on two cores, after the build)
+#   bash demos/make_report.sh        (about a minute of runs on two cores, after the float and double builds)
 # Uses Debian's own /usr/bin/python3 (python3-matplotlib). Writes the plots to docs/images/, the table to
 # docs/images/results.md and into README.md (between the results markers), the raw CSV/JSON to demos/out/report/.
 # QUATHINGE_BUILD_DIR picks the build directory (default build/); QUATHINGE_MODELS_DIR the shared models.
@@ -11,13 +11,19 @@ build=${QUATHINGE_BUILD_DIR:-build}
 cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=Release >/dev/null
 cmake --build "$build" -j2 --target quathinge-compare
 compare=$build/demos/quathinge-compare
+# the fine-step references run in double precision: Debian's double Bullet, in its own build (one program cannot
+# link both precisions); QUATHINGE_REFERENCE_BUILD picks that directory (default build-double/)
+reference_build=${QUATHINGE_REFERENCE_BUILD:-build-double}
+cmake -S . -B "$reference_build" -DCMAKE_BUILD_TYPE=Release -DQUATHINGE_DOUBLE_PRECISION=ON >/dev/null
+cmake --build "$reference_build" -j2 --target quathinge-compare
+reference=(--reference-exe "$reference_build/demos/quathinge-compare")
 out=demos/out/report
 mkdir -p "$out"
 models=${QUATHINGE_MODELS_DIR:-../shared/models}
 scenes_table=(pendulum chain10 chain30 heavy100 heavy1000 heavy10000 double_pendulum rotor100 flipped90 flipped179 flipped180
               limit_hit limit_across_pi limit_wide motor_lift four_bar ragdoll spider kuka_iiwa pendulum5)
 # 1. the table: every listed scene × kind at 60 Hz, 10 iterations, with references
-$compare --models "$models" -s "${scenes_table[@]}" -o "$out/table" >"$out/table.txt"
+$compare --models "$models" -s "${scenes_table[@]}" "${reference[@]}" -o "$out/table" >"$out/table.txt"
 # 2. error against run time: step × iterations sweep (joint error needs no reference)
 $compare --models "$models" -s pendulum chain10 heavy100 four_bar double_pendulum ragdoll --no-reference -d 3 \
   --sweep-dt 0.0333333 0.0166667 0.00833333 0.00416667 --sweep-iterations 2 5 10 20 50 -o "$out/sweep" >"$out/sweep.txt"
@@ -30,7 +36,7 @@ thread CPU time. Full data: \`$out/\`."
   --table "$out/table/results.json" --images docs/images --markdown docs/images/results.md --readme README.md --note "$note"
 # 4. the energy-consistent stabilizer option on the conservative scenes (README, between the energy markers)
 $compare --models "$models" -s pendulum double_pendulum chain10 heavy100 pendulum5 -d 10 \
-  -k stock quaternion quaternion+stab quaternion+stab+energy -o "$out/energy" >"$out/energy.txt"
+  -k stock quaternion quaternion+stab quaternion+stab+energy "${reference[@]}" -o "$out/energy" >"$out/energy.txt"
 /usr/bin/python3 - "$out/energy/results.json" <<'PY'
 import json, re, sys
 runs = json.load(open(sys.argv[1]))

@@ -98,6 +98,8 @@ int main(int argc, char** argv)
 	std::string out = "demos/out", models = "";
 	bool noReference = false, series = false, list = false;
 	long soak = 0;
+	std::string referenceExe, dumpReference;
+	int dumpSteps = 0;
 	app.add_option("-s,--scenes", scenes, "scene names (--list shows them), or URDF paths")->capture_default_str();
 	app.add_option("-k,--kinds", kinds, "joint kinds: stock 6dof2 quaternion quaternion+stab multibody")->capture_default_str();
 	app.add_option("--dt", dt, "time step (s)")->capture_default_str()->check(CLI::PositiveNumber);
@@ -114,6 +116,12 @@ int main(int argc, char** argv)
 	app.add_flag("--list", list, "list the scenes and exit");
 	app.add_option("--soak", soak, "soak: run each scene x kind for this many steps (no reference), checking for NaN, "
 								   "energy and resident memory")->check(CLI::PositiveNumber);
+	app.add_option("--reference-exe", referenceExe,
+				   "take the fine-step references from this quathinge-compare (the double-precision build's); default: "
+				   "run them here, in this build's precision");
+	app.add_flag("--dump-reference", "print the fine-step reference trajectory of the first scene and kind (every body's "
+									 "position after each of --dump-steps steps of --dt) and exit");
+	app.add_option("--dump-steps", dumpSteps, "coarse steps for --dump-reference");
 	CLI11_PARSE(app, argc, argv);
 
 	if (models.empty()) models = std::getenv("QUATHINGE_MODELS_DIR") ? std::getenv("QUATHINGE_MODELS_DIR") : "../shared/models";
@@ -122,6 +130,26 @@ int main(int argc, char** argv)
 		for (const std::string& name : sceneNames())
 			std::cout << fmt::format("{:<16} {}\n", name, makeScene(name, seed, models).description);
 		return 0;
+	}
+	if (app.count("--dump-reference"))
+	{
+		try
+		{
+			const SceneSpec scene = makeScene(scenes.at(0), seed, models);
+			std::cout << "# precision " << (sizeof(btScalar) == 8 ? "double" : "float") << '\n';
+			for (const auto& positions : fineStepReference(scene, parseKind(kinds.at(0)), dt, dumpSteps))
+			{
+				for (const btVector3& p : positions)
+					std::cout << fmt::format("{:.17g} {:.17g} {:.17g} ", double(p.x()), double(p.y()), double(p.z()));
+				std::cout << '\n';
+			}
+			return 0;
+		}
+		catch (const std::exception& e)
+		{
+			std::cerr << "quathinge-compare: --dump-reference: " << e.what() << '\n';
+			return 2;
+		}
 	}
 	if (sweepSteps.empty()) sweepSteps = {dt};
 	if (sweepIterations.empty()) sweepIterations = {iterations};
@@ -142,6 +170,10 @@ int main(int argc, char** argv)
 						settings.duration = duration;
 						settings.reference = !noReference;
 						settings.series = series;
+						settings.referenceExe = referenceExe;
+						settings.sceneArgument = name;
+						settings.modelsDir = models;
+						settings.seed = seed;
 						if (soak > 0)
 						{
 							settings.duration = double(soak) * h;

@@ -22,6 +22,9 @@
 #include <cmath>
 #include <fstream>
 #include <memory>
+#include <iomanip>
+#include <sstream>
+#include <cstdio>
 #include <stdexcept>
 
 namespace quathinge
@@ -578,6 +581,45 @@ Metrics runScene(const SceneSpec& scene, Kind kind, const RunSettings& settings)
 		return m;
 	}
 	const int steps = int(std::lround(duration / settings.dt));
+	// the reference from the other precision's build: read whole before the run (it is a separate process)
+	std::vector<std::vector<double>> external;
+	bool useExternal = reference && !settings.referenceExe.empty();
+	std::string externalFailure, externalPrecision = "unknown";
+	if (useExternal) try
+	{
+		reference.reset();
+		std::ostringstream cmd;
+		cmd << '"' << settings.referenceExe << "\" --dump-reference -s \"" << settings.sceneArgument << "\" -k \""
+			<< kindName(kind) << "\" --dt " << std::setprecision(17) << settings.dt << " --dump-steps " << steps
+			<< " --seed " << settings.seed << " --models \"" << settings.modelsDir << '"';
+		FILE* pipe = popen(cmd.str().c_str(), "r");
+		if (!pipe) throw std::runtime_error("runScene: cannot run the reference: " + cmd.str());
+		char line[1 << 16];
+		while (std::fgets(line, sizeof line, pipe))
+		{
+			if (line[0] == '#')  // "# precision double": which Bullet the reference ran in
+			{
+				std::istringstream header(line + 1);
+				std::string word;
+				header >> word >> externalPrecision;
+				continue;
+			}
+			std::istringstream in(line);
+			std::vector<double> values;
+			double v;
+			while (in >> v) values.push_back(v);
+			external.push_back(values);
+		}
+		const int status = pclose(pipe);
+		if (status != 0 || int(external.size()) != steps)
+			throw std::runtime_error("the reference (" + cmd.str() + ") gave " + std::to_string(external.size()) +
+									 " of " + std::to_string(steps) + " steps, status " + std::to_string(status));
+	}
+	catch (const std::exception& e)
+	{
+		useExternal = false;  // said in the results instead of a trajectory error
+		externalFailure = e.what();
+	}
 	const double e0 = sim->energy();
 	// energy scale: the potential energy a body could exchange over the scene's size, plus the initial kinetic energy
 	double scale = 0;
@@ -648,12 +690,28 @@ Metrics runScene(const SceneSpec& scene, Kind kind, const RunSettings& settings)
 		m.maxMisalignmentDeg = std::max(m.maxMisalignmentDeg, stepMis);
 		if (scene.conservative) maxEnergy = std::max(maxEnergy, std::fabs(e - e0) / scale);
 		if (scene.reference == Reference::PendulumPeriod) period.add(t, double(sim->bodies[0]->getCenterOfMassPosition().x()));
-		if (reference)
+		if (reference || useExternal)
 		{
-			for (int k = 0; k < 16; ++k) reference->step(settings.dt / 16, 100);
-			const std::vector<btVector3> a = sim->positions(), b = reference->positions();
+			const std::vector<btVector3> a = sim->positions();
+			std::vector<double> b;
+			if (useExternal)
+				b = external[size_t(i - 1)];
+			else
+			{
+				for (int k = 0; k < 16; ++k) reference->step(settings.dt / 16, 100);
+				for (const btVector3& p : reference->positions())
+					for (int c = 0; c < 3; ++c) b.push_back(double(p[c]));
+			}
+			if (b.size() != 3 * a.size())
+			{
+				useExternal = false;
+				externalFailure = "the reference has another number of bodies";
+				maxTraj = -1;
+				break;
+			}
 			double err2 = 0;
-			for (size_t k = 0; k < a.size(); ++k) err2 += double((a[k] - b[k]).length2());
+			for (size_t k = 0; k < a.size(); ++k)
+				for (int c = 0; c < 3; ++c) err2 += (double(a[k][c]) - b[3 * k + size_t(c)]) * (double(a[k][c]) - b[3 * k + size_t(c)]);
 			const double err = std::sqrt(err2 / double(std::max<size_t>(1, a.size())));
 			sumTraj2 += err * err;
 			maxTraj = std::max(maxTraj, err);
@@ -683,10 +741,17 @@ Metrics runScene(const SceneSpec& scene, Kind kind, const RunSettings& settings)
 		m.reference = "exact period (elliptic integral)";
 		m.trajectoryError = measured > 0 ? std::fabs(measured - scene.exactPeriod) / scene.exactPeriod : -1;
 	}
+	else if (useExternal)
+	{
+		m.reference = "same kind, dt/16, 100 iterations, " + externalPrecision + " precision (" + settings.referenceExe + ")";
+		m.trajectoryError = maxTraj;
+	}
+	else if (!externalFailure.empty())
+		m.reference = "failed: " + externalFailure;
 	else if (reference)
 	{
 		m.reference = sizeof(btScalar) == 8 ? "same kind, dt/16, 100 iterations (double)"
-											: "same kind, dt/16, 100 iterations (float)";
+											: "same kind, dt/16, 100 iterations (float: no --reference-exe)";
 		m.trajectoryError = maxTraj;
 	}
 	else
@@ -695,6 +760,18 @@ Metrics runScene(const SceneSpec& scene, Kind kind, const RunSettings& settings)
 	m.cpuPerSimSecond = m.steps ? cpu / (m.steps * settings.dt) : 0;
 	m.rowsPerStep = m.steps ? double(rows) / m.steps : 0;
 	return m;
+}
+
+std::vector<std::vector<btVector3>> fineStepReference(const SceneSpec& scene, Kind kind, double dt, int steps)
+{
+	Simulation reference(scene, kind);
+	std::vector<std::vector<btVector3>> out;
+	for (int i = 0; i < steps; ++i)
+	{
+		for (int k = 0; k < 16; ++k) reference.step(dt / 16, 100);
+		out.push_back(reference.positions());
+	}
+	return out;
 }
 
 }  // namespace scenes

@@ -38,7 +38,17 @@ struct RunSettings
 	bool reference = true;  ///< run the fine-step reference where the scene asks for one
 	bool series = false;    ///< record time series
 	int memoryEvery = 0;    ///< sample the process's resident memory every this many steps (soak runs); 0: never
+	/// The fine-step reference from another quathinge-compare (the double-precision build's: float and double Bullet
+	/// cannot live in one program): its path, and the arguments that make it build the same scene (scene name or URDF
+	/// path, seed, models directory). Empty: the reference runs here, in this build's precision.
+	std::string referenceExe;
+	std::string sceneArgument, modelsDir;
+	unsigned seed = 1;
 };
+
+/// The fine-step reference trajectory: the scene with `kind` at dt/16 and 100 iterations, every body's position after
+/// each of `steps` coarse steps of dt (what --dump-reference prints, one line per coarse step).
+std::vector<std::vector<btVector3>> fineStepReference(const SceneSpec& scene, Kind kind, double dt, int steps);
 
 struct SeriesPoint
 {
