@@ -115,15 +115,22 @@ struct Camera
 	{
 		return target + distance * btVector3(std::cos(pitch) * std::sin(yaw), std::sin(pitch), std::cos(pitch) * std::cos(yaw));
 	}
+	/// The view basis: f forward (eye to target), s to the right, u up (what lookAt, pixelRay and projectToPixel use).
+	void basis(btVector3& f, btVector3& s, btVector3& u) const
+	{
+		f = (target - eye()).normalized();
+		s = f.cross(btVector3(0, 1, 0));
+		if (s.length2() < 1e-8f) s = btVector3(1, 0, 0);
+		s.normalize();
+		u = s.cross(f);
+	}
 };
 
-void lookAt(const btVector3& eye, const btVector3& target, float* m)
+void lookAt(const Camera& cam, float* m)
 {
-	btVector3 f = (target - eye).normalized();
-	btVector3 s = f.cross(btVector3(0, 1, 0));
-	if (s.length2() < 1e-8f) s = btVector3(1, 0, 0);
-	s.normalize();
-	const btVector3 u = s.cross(f);
+	const btVector3 eye = cam.eye();
+	btVector3 f, s, u;
+	cam.basis(f, s, u);
 	const float r[16] = {float(s.x()), float(u.x()), float(-f.x()), 0, float(s.y()), float(u.y()), float(-f.y()), 0,
 						 float(s.z()), float(u.z()), float(-f.z()), 0, float(-s.dot(eye)), float(-u.dot(eye)), float(f.dot(eye)), 1};
 	std::copy(r, r + 16, m);
@@ -139,7 +146,7 @@ void applyCamera(const Camera& cam, float aspect)
 	glFrustum(-right, right, -top, top, kNear, kFar);
 	glMatrixMode(GL_MODELVIEW);
 	float m[16];
-	lookAt(cam.eye(), cam.target, m);
+	lookAt(cam, m);
 	glLoadMatrixf(m);
 }
 
@@ -147,11 +154,8 @@ void applyCamera(const Camera& cam, float aspect)
 void pixelRay(const Camera& cam, double x, double y, int w, int h, btVector3& from, btVector3& to)
 {
 	const btVector3 eye = cam.eye();
-	const btVector3 f = (cam.target - eye).normalized();
-	btVector3 s = f.cross(btVector3(0, 1, 0));
-	if (s.length2() < 1e-8f) s = btVector3(1, 0, 0);
-	s.normalize();
-	const btVector3 u = s.cross(f);
+	btVector3 f, s, u;
+	cam.basis(f, s, u);
 	const float top = std::tan(kFovY / 2), right = top * float(w) / float(h);
 	const float nx = float(2 * x / w - 1), ny = float(1 - 2 * y / h);
 	from = eye;
@@ -162,11 +166,8 @@ void pixelRay(const Camera& cam, double x, double y, int w, int h, btVector3& fr
 bool projectToPixel(const Camera& cam, const btVector3& point, int w, int h, double& x, double& y)
 {
 	const btVector3 eye = cam.eye();
-	const btVector3 f = (cam.target - eye).normalized();
-	btVector3 s = f.cross(btVector3(0, 1, 0));
-	if (s.length2() < 1e-8f) s = btVector3(1, 0, 0);
-	s.normalize();
-	const btVector3 u = s.cross(f);
+	btVector3 f, s, u;
+	cam.basis(f, s, u);
 	const btVector3 d = point - eye;
 	const double depth = d.dot(f);
 	if (depth <= kNear) return false;
@@ -178,6 +179,16 @@ bool projectToPixel(const Camera& cam, const btVector3& point, int w, int h, dou
 }
 
 // ---- Drawing bodies ------------------------------------------------------------------------------------------------
+
+// Multiplies GL's current matrix by a transform (btScalar may be double: GL 2.1's fixed pipeline here takes floats).
+void multMatrix(const btTransform& t)
+{
+	btScalar m[16];
+	t.getOpenGLMatrix(m);
+	float f[16];
+	for (int i = 0; i < 16; ++i) f[i] = float(m[i]);
+	glMultMatrixf(f);
+}
 
 void drawBox(const btVector3& h)
 {
@@ -274,10 +285,8 @@ void drawShape(const btCollisionShape* shape)
 			const auto* c = static_cast<const btCompoundShape*>(shape);
 			for (int i = 0; i < c->getNumChildShapes(); ++i)
 			{
-				btScalar m[16];
-				c->getChildTransform(i).getOpenGLMatrix(m);
 				glPushMatrix();
-				glMultMatrixf(m);
+				multMatrix(c->getChildTransform(i));
 				drawShape(c->getChildShape(i));
 				glPopMatrix();
 			}
@@ -308,10 +317,8 @@ void drawWorld(btDiscreteDynamicsWorld& world, const btRigidBody* picked)
 		if (o->isStaticObject()) glColor3f(0.45f, 0.45f, 0.5f);
 		else if (body && body == picked) glColor3f(1.0f, 0.55f, 0.2f);
 		else glColor3f(0.35f, 0.6f, 0.9f);
-		btScalar m[16];
-		o->getWorldTransform().getOpenGLMatrix(m);
 		glPushMatrix();
-		glMultMatrixf(m);
+		multMatrix(o->getWorldTransform());
 		drawShape(o->getCollisionShape());
 		glPopMatrix();
 	}
