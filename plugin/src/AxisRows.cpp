@@ -70,22 +70,6 @@ AxialRow limitRow(const btQuaternionHingeSettings& s, const LimitState& limit, b
 	return row;
 }
 
-bool driveActive(const btQuaternionHingeSettings& s)
-{
-	switch (s.driveMode)
-	{
-		case BT_QHINGE_DRIVE_VELOCITY:
-			return s.maxMotorImpulse > 0;
-		case BT_QHINGE_DRIVE_SERVO:
-			return s.servoMaxTorque > 0;
-		case BT_QHINGE_DRIVE_SPRING:
-			return true;
-		case BT_QHINGE_DRIVE_OFF:
-			break;
-	}
-	return false;
-}
-
 AxialRow driveRow(const btQuaternionHingeSettings& s, btScalar angle, btScalar rate, btScalar fps,
 				  btScalar invEffectiveMass)
 {

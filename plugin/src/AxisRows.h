@@ -43,8 +43,23 @@ struct AxialRow
 
 AxialRow limitRow(const btQuaternionHingeSettings& s, const LimitState& limit, btScalar rate, btScalar fps,
 				  btScalar stopErp);
-/// Whether the drive currently needs a row (a drive with a zero impulse bound does nothing and gets no row).
-bool driveActive(const btQuaternionHingeSettings& s);
+/// Whether the drive currently needs a row (a drive with a zero impulse bound does nothing and gets no row). Inline:
+/// asked twice per joint and step.
+inline bool driveActive(const btQuaternionHingeSettings& s)
+{
+	switch (s.driveMode)
+	{
+		case BT_QHINGE_DRIVE_VELOCITY:
+			return s.maxMotorImpulse > 0;
+		case BT_QHINGE_DRIVE_SERVO:
+			return s.servoMaxTorque > 0;
+		case BT_QHINGE_DRIVE_SPRING:
+			return true;
+		case BT_QHINGE_DRIVE_OFF:
+			break;
+	}
+	return false;
+}
 /// invEffectiveMass: J_α M⁻¹ J_αᵀ of the pair (for the spring).
 AxialRow driveRow(const btQuaternionHingeSettings& s, btScalar angle, btScalar rate, btScalar fps,
 				  btScalar invEffectiveMass);
