@@ -1,4 +1,4 @@
-// Regression tests for what the fuzzer found (tests/fuzz/crashes/README.md tells each story; the reproducers now live
+// Regression tests for what the fuzzer found (tests/fuzz/FINDINGS.md tells each story; the reproducers now live
 // in tests/fuzz/corpus/ and guard the fixes there too). One test per finding, named after its reproducer.
 #include "quathinge/btQuaternionHingeConstraint.h"
 #include "quathinge/btQuaternionHingeSerialization.h"

@@ -1,5 +1,5 @@
 // libFuzzer target for btQuaternionHingeConstraint (tests/fuzz/run_fuzz.sh builds and runs it; make_corpus.py writes
-// the hand-made seeds; crashes/README.md lists what it found).
+// the hand-made seeds; FINDINGS.md lists what it found).
 // The input bytes decode into three bodies (masses, zero included; poses; velocities; now and then a raw float: NaN,
 // ±Inf, huge, denormal), one or two joints built through every entry point (the four stock constructors, the
 // settings constructor, the conversion from a stock btHingeConstraint; a refusal, std::invalid_argument, is fine),
