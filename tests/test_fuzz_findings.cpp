@@ -233,3 +233,25 @@ TEST(FuzzFindings, SetAxisRefusesADerivedFrameBeyondThePivotRange)
 	}
 	EXPECT_EQ(j.getBFrame().getOrigin(), before.getOrigin());
 }
+
+TEST(FuzzFindings, SetMotorTargetRefusesADtThatMakesTheVelocityInfinite)
+{
+	// setmotortarget-tiny-dt: setMotorTarget(angle, dt) with a denormal dt set an infinite motor velocity, and the
+	// motor row's error became inf. Refused (dt named), the previous velocity kept; an ordinary dt still works.
+	btBoxShape shape(btVector3(1, 1, 1));
+	btRigidBody a(1, nullptr, &shape, btVector3(1, 1, 1));
+	btQuaternionHingeConstraint j(a, btVector3(0, btScalar(0.5), 0), btVector3(0, 0, 1));
+	j.enableAngularMotor(true, btScalar(-2), btScalar(0.5));
+	try
+	{
+		j.setMotorTarget(btScalar(1), std::numeric_limits<btScalar>::denorm_min());
+		FAIL() << "setMotorTarget accepted a dt that makes the velocity infinite";
+	}
+	catch (const std::invalid_argument& e)
+	{
+		EXPECT_NE(std::string(e.what()).find("dt"), std::string::npos) << e.what();
+	}
+	EXPECT_EQ(j.getMotorTargetVelocity(), btScalar(-2));
+	j.setMotorTarget(btScalar(1), btScalar(0.5));
+	EXPECT_NEAR(j.getMotorTargetVelocity(), btScalar(2), btScalar(1e-4));  // rad/s: (1 − 0) / 0.5 from rest at θ = 0
+}

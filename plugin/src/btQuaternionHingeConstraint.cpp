@@ -363,7 +363,11 @@ void btQuaternionHingeConstraint::setMotorTarget(btScalar targetAngle, btScalar 
 	// wrapped angle; here the multi-turn angle is used when it is tracked, so targets beyond ±π work.
 	if (m_settings.hasLimit) targetAngle = btMax(m_settings.lowerLimit, btMin(m_settings.upperLimit, targetAngle));
 	const btScalar current = m_multiTurnValid ? m_multiTurnAngle : getHingeAngle();
-	m_settings.motorTargetVelocity = (targetAngle - current) / dt;
+	const btScalar velocity = (targetAngle - current) / dt;
+	// a denormal dt (1e-38 s) turns any angle difference into an infinite velocity: refused, nothing changed
+	if (!std::isfinite(velocity))
+		check::fail(fn, "dt", "is too small: (targetAngle - angle) / dt is not a finite velocity", dt);
+	m_settings.motorTargetVelocity = velocity;
 }
 
 void btQuaternionHingeConstraint::setMotorTarget(const btQuaternion& qAinB, btScalar dt)
