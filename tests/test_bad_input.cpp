@@ -220,6 +220,39 @@ TEST(BadInput, NaNVelocityFromOutsideDisablesTheJointInsteadOfSpreading)
 	EXPECT_EQ(joint->getNumRowsLastStep(), 5);
 }
 
+TEST(BadInput, AFaultStandsUntilClearFaultEvenIfTheJointIsReenabledByHand)
+{
+	// A joint that faulted and was re-enabled with setEnabled(true) instead of clearFault() gives the solver no rows
+	// while its fault stands (the stabilizer skips such a joint too: both must agree); clearFault() brings it back.
+	qh_test::World world;
+	btRigidBody* a = world.addBox(1, btVector3(1, 1, 1), btTransform::getIdentity());
+	btRigidBody* b = world.addBox(1, btVector3(1, 1, 1), btTransform(btQuaternion::getIdentity(), btVector3(0, -2, 0)));
+	auto* joint = world.add(new btQuaternionHingeConstraint(*a, *b, btVector3(0, -1, 0), btVector3(0, 1, 0), btVector3(0, 0, 1), btVector3(0, 0, 1)));
+	world.step(5);
+	a->setAngularVelocity(btVector3(kNaN, 0, 0));
+	world.step(1);
+	ASSERT_EQ(joint->getFault(), BT_QHINGE_FAULT_NONFINITE_BODY_STATE);
+	a->setAngularVelocity(btVector3(0, 0, 0));  // repaired, but the fault is not cleared
+	a->setLinearVelocity(btVector3(0, 0, 0));
+	a->setCenterOfMassTransform(btTransform::getIdentity());
+	b->setCenterOfMassTransform(btTransform(btQuaternion::getIdentity(), btVector3(0, -2, 0)));
+	b->setLinearVelocity(btVector3(0, 0, 0));
+	b->setAngularVelocity(btVector3(0, 0, 0));
+	joint->setEnabled(true);
+	world.step(1);
+	EXPECT_EQ(joint->getFault(), BT_QHINGE_FAULT_NONFINITE_BODY_STATE);
+	EXPECT_EQ(joint->getNumRowsLastStep(), 0);
+	EXPECT_FALSE(joint->isEnabled());  // disabled again by the standing fault
+	joint->setEnabled(true);
+	btTypedConstraint::btConstraintInfo1 info;
+	joint->getInfo1(&info);
+	EXPECT_EQ(info.m_numConstraintRows, 0);
+	joint->clearFault();
+	world.step(1);
+	EXPECT_EQ(joint->getFault(), BT_QHINGE_FAULT_NONE);
+	EXPECT_EQ(joint->getNumRowsLastStep(), 5);
+}
+
 TEST(BadInput, AbsurdBodyStateDisablesTheJoint)
 {
 	// A body at 2e38 m or with a non-finite inverse inertia (a 1e-38 kg body) is state the rows cannot carry: no rows,

@@ -648,7 +648,13 @@ void btQuaternionHingeConstraint::computeRowCount(btConstraintInfo1* info, const
 	info->nub = 0;
 	m_numRows = 0;
 	validateFramesIfEdited();
-	if (m_fault == BT_QHINGE_FAULT_FRAME_EDITED_INVALID) return;
+	// A fault stands until clearFault(), even for a joint re-enabled by hand with setEnabled(true): no rows, disabled
+	// again (the stabilizer skips a faulted joint as well; the two must agree).
+	if (m_fault == BT_QHINGE_FAULT_FRAME_EDITED_INVALID || m_fault == BT_QHINGE_FAULT_NONFINITE_BODY_STATE)
+	{
+		setEnabled(false);
+		return;
+	}
 	// State from outside must not turn the rows into NaN: refuse, disable, say why.
 	if (!finiteBodyState(m_rbA) || !finiteBodyState(m_rbB))
 	{

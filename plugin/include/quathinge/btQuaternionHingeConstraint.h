@@ -255,7 +255,9 @@ public:
 
 	const btQuaternionHingeSettings& getSettings() const { return m_settings; }
 	btQuaternionHingeFault getFault() const { return m_fault; }
-	/// Clears a fault and re-enables the joint (after the user repaired the bodies' state).
+	/// Clears a fault and re-enables the joint (after the user repaired the bodies' state). A fault stands until this
+	/// call (setEnabled(true) alone gives no rows while it stands), and a refused frame edit is checked again here:
+	/// while frameInA/frameInB are still not rigid the fault stays BT_QHINGE_FAULT_FRAME_EDITED_INVALID, disabled.
 	void clearFault();
 
 	/// Rows reported by the last getInfo1 (for tests and statistics).
