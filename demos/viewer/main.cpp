@@ -137,12 +137,32 @@ void lookAt(const Camera& cam, float* m)
 }
 
 const float kFovY = 45.0f * float(M_PI) / 180.0f, kNear = 0.05f, kFar = 500.0f;
+// Narrower panes than this (four or five kinds beside the panel) keep this aspect's horizontal field of view and see
+// more vertically instead, so a scene framed for two panes is not cropped at the sides.
+const float kMinAspect = 0.4f;
+
+// The frustum's half extents at distance `scale` for a viewport of this aspect (w / h): one definition for drawing,
+// picking rays and projection back to pixels.
+void frustumHalfExtents(float aspect, float scale, float& top, float& right)
+{
+	if (aspect >= kMinAspect)
+	{
+		top = scale * std::tan(kFovY / 2);
+		right = top * aspect;
+	}
+	else
+	{
+		right = scale * std::tan(kFovY / 2) * kMinAspect;
+		top = right / aspect;
+	}
+}
 
 void applyCamera(const Camera& cam, float aspect)
 {
 	glMatrixMode(GL_PROJECTION);
 	glLoadIdentity();
-	const float top = kNear * std::tan(kFovY / 2), right = top * aspect;
+	float top, right;
+	frustumHalfExtents(aspect, kNear, top, right);
 	glFrustum(-right, right, -top, top, kNear, kFar);
 	glMatrixMode(GL_MODELVIEW);
 	float m[16];
@@ -156,7 +176,8 @@ void pixelRay(const Camera& cam, double x, double y, int w, int h, btVector3& fr
 	const btVector3 eye = cam.eye();
 	btVector3 f, s, u;
 	cam.basis(f, s, u);
-	const float top = std::tan(kFovY / 2), right = top * float(w) / float(h);
+	float top, right;
+	frustumHalfExtents(float(w) / float(h), 1, top, right);
 	const float nx = float(2 * x / w - 1), ny = float(1 - 2 * y / h);
 	from = eye;
 	to = eye + (f + s * (nx * right) + u * (ny * top)) * btScalar(kFar);
@@ -171,7 +192,8 @@ bool projectToPixel(const Camera& cam, const btVector3& point, int w, int h, dou
 	const btVector3 d = point - eye;
 	const double depth = d.dot(f);
 	if (depth <= kNear) return false;
-	const double top = std::tan(kFovY / 2), right = top * double(w) / double(h);
+	float top, right;
+	frustumHalfExtents(float(w) / float(h), 1, top, right);
 	const double nx = d.dot(s) / depth / right, ny = d.dot(u) / depth / top;
 	x = (nx + 1) * w / 2;
 	y = (1 - ny) * h / 2;
@@ -343,6 +365,30 @@ struct Options
 	int width = 1280, height = 720;
 };
 
+// The dynamic bodies joined to `start` through joints between dynamic bodies, and the distinct world points where
+// they are jointed to static bodies (`anchors`).
+std::vector<const btRigidBody*> connectedBodies(const Simulation& sim, const btRigidBody* start, std::vector<btVector3>& anchors)
+{
+	std::vector<const btRigidBody*> found = {start};
+	for (size_t next = 0; next < found.size(); ++next)
+		for (const MeasuredJoint& j : sim.joints)
+		{
+			const btRigidBody* other = j.a == found[next] ? j.b : j.b == found[next] ? j.a : nullptr;
+			if (!other) continue;
+			if (other->getInvMass() == 0)
+			{
+				const btVector3 anchor = other == j.a ? j.a->getCenterOfMassTransform() * j.frameA.getOrigin()
+													  : j.b->getCenterOfMassTransform() * j.frameB.getOrigin();
+				bool known = false;
+				for (const btVector3& a : anchors) known = known || (a - anchor).length() < btScalar(1e-3);
+				if (!known) anchors.push_back(anchor);
+			}
+			else if (std::find(found.begin(), found.end(), other) == found.end())
+				found.push_back(other);
+		}
+	return found;
+}
+
 class Viewer
 {
 public:
@@ -409,13 +455,33 @@ public:
 		btVector3 lo, hi;
 		if (!bodyBox(lo, hi)) return;
 		// A scene hung from the world swings around its anchor (the first joint on a static body): aim below the
-		// anchor, far enough for the whole swing either side. Otherwise aim at the bodies.
+		// anchor, far enough for the whole swing either side. A mechanism anchored at two or more points (a loop
+		// closed on the world: the four-bar) or a scene without anchors: aim at the box of its bodies and anchors.
 		for (const Pane& p : m_panes)
 			if (p.sim)
 				for (const MeasuredJoint& j : p.sim->joints)
 					if (j.a->getInvMass() == 0 && j.b->getInvMass() > 0)
 					{
 						const btVector3 anchor = j.a->getCenterOfMassTransform() * j.frameA.getOrigin();
+						std::vector<btVector3> anchors;
+						const std::vector<const btRigidBody*> mechanism = connectedBodies(*p.sim, j.b, anchors);
+						if (anchors.size() > 1)
+						{
+							lo = hi = anchor;
+							for (const btVector3& a : anchors)
+							{
+								lo.setMin(a);
+								hi.setMax(a);
+							}
+							for (const btRigidBody* b : mechanism)
+							{
+								lo.setMin(b->getCenterOfMassPosition());
+								hi.setMax(b->getCenterOfMassPosition());
+							}
+							m_camera.target = (lo + hi) / 2;
+							m_camera.distance = std::max(2.5f, float((hi - lo).length()) * 2.5f + 1.0f);
+							return;
+						}
 						btScalar reach = 0;
 						for (const btRigidBody* b : p.sim->bodies)
 							reach = btMax(reach, (b->getCenterOfMassPosition() - anchor).length());
@@ -755,6 +821,18 @@ int main(int argc, char** argv)
 	o.height = o.width * 9 / 16;
 	const bool headless = !o.screenshot.empty() || !o.strip.empty();
 	if (!o.strip.empty()) o.height = o.width * 3 / 8;
+
+	// the scene and kinds checked before any window, so a typo is reported as one even without a display
+	try
+	{
+		for (const std::string& k : o.kinds) parseKind(k);
+		makeScene(o.scene, 1, o.models.empty() ? "../shared/models" : o.models);
+	}
+	catch (const std::exception& e)
+	{
+		std::fprintf(stderr, "quathinge-viewer: %s\n", e.what());
+		return 1;
+	}
 
 	if (!glfwInit())
 	{
