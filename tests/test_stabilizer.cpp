@@ -851,3 +851,60 @@ TEST(Stabilizer, ConserveEnergyHoldsAPendulumsEnergyAndPeriod)
 	EXPECT_LT(on.maxSeparation, kSeparationTol);
 	EXPECT_EQ(off.maxCorrection, 0);  // the option off never scales
 }
+
+TEST(Stabilizer, IslandsWithAndWithoutLimitsConvergeInOneWorld)
+{
+	// An island with limit slots (6-row blocks) and one without (5-row blocks) are both put back on their joints, and
+	// the limited one at its stops, by the same stabilizer in the same steps.
+	StabilizerScene scene;
+	// Heights 5 and 10 m (3 m chains: they never meet), so that float's rounding floor stays below the tolerance.
+	std::vector<btRigidBody*> unlimited = scene.chain(6, 1, 5);  // no limits: 5-row blocks
+	const size_t firstLimited = scene.hinges().size();
+	std::vector<btRigidBody*> limited = scene.chain(6);  // every hinge limited: 6-row blocks
+	const btScalar stop = btScalar(0.25);                       // rad: the horizontal chain falls past it at once
+	for (size_t i = firstLimited; i < scene.hinges().size(); ++i) scene.hinges()[i]->setLimit(-stop, stop);
+	// Both chains assembled off their joints (4 cm, 10°): one stabilize() call removes both errors.
+	for (btRigidBody* link : {unlimited[3], limited[3]})
+	{
+		btTransform t = link->getCenterOfMassTransform();
+		t.setOrigin(t.getOrigin() + btVector3(0.02, 0.03, -0.01));
+		t.setRotation(btQuaternion(btVector3(1, 0, 1).normalized(), btScalar(10 / kRadToDeg)) * t.getRotation());
+		link->setCenterOfMassTransform(t);
+	}
+	btQuaternionHingeStabilizer stabilizer;
+	const btQuaternionHingeStabilizerStats first = stabilizer.stabilize(&scene.world());
+	EXPECT_EQ(first.islands, 2);
+	EXPECT_EQ(first.rows, 6 * 5 + 6 * 6);  // 5 rows per free joint; 5 and a limit slot per limited joint
+	EXPECT_GT(first.residualBefore, btScalar(0.02));
+	EXPECT_LE(first.residualAfter, kResidualTolerance);
+	EXPECT_EQ(first.numericalIssues, 0);
+	double separation, misalignment;
+	scene.jointErrors(separation, misalignment);
+	EXPECT_LE(separation, kSeparationTolerance);
+	EXPECT_LE(misalignment, kMisalignmentToleranceDeg);
+
+	// Then both swing for 2 s with the stabilizer as an action.
+	scene.addAction(&stabilizer);
+	int stepsAtStop = 0;
+	btScalar worstExcess = 0;
+	double worstSeparation = 0, worstMisalignment = 0;
+	for (int i = 0; i < 120; ++i)
+	{
+		scene.world().stepSimulation(kTimeStep, 0);
+		const btQuaternionHingeStabilizerStats& s = stabilizer.getLastStats();
+		EXPECT_EQ(s.islands, 2);
+		EXPECT_LE(s.residualAfter, kResidualTolerance);
+		EXPECT_EQ(s.numericalIssues, 0);
+		if (s.activeLimitRows > 0) ++stepsAtStop;
+		for (size_t k = firstLimited; k < scene.hinges().size(); ++k)
+			worstExcess = std::max(worstExcess, btFabs(scene.hinges()[k]->getMultiTurnAngle()) - stop);
+		scene.jointErrors(separation, misalignment);
+		worstSeparation = std::max(worstSeparation, separation);
+		worstMisalignment = std::max(worstMisalignment, misalignment);
+	}
+	ASSERT_TRUE(scene.allFinite());
+	EXPECT_GT(stepsAtStop, 0);                             // the limit rows were projected
+	EXPECT_LE(worstExcess, btScalar(kResidualTolerance));  // rad past a stop
+	EXPECT_LE(worstSeparation, kSeparationTolerance);
+	EXPECT_LE(worstMisalignment, kMisalignmentToleranceDeg);
+}

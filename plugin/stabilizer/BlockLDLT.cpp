@@ -15,7 +15,8 @@ int BlockPattern::find(int i, int k) const
 	return (at != last && *at == i) ? int(at - rowOf.data()) : -1;
 }
 
-bool BlockLDLT::analyze(const BlockPattern& pattern)
+template <int R>
+bool BlockLDLT<R>::analyze(const BlockPattern& pattern)
 {
 	m_pattern = &pattern;
 	m_updates.clear();
@@ -43,7 +44,7 @@ bool BlockLDLT::analyze(const BlockPattern& pattern)
 	}
 	m_updateStart[pattern.blockRows()] = int(m_updates.size());
 	m_w.resize(widest);
-	m_invPivot.resize(pattern.blockRows());
+	m_invPivot.assign(pattern.blockRows(), BlockVector<R>::Zero());
 	return true;
 }
 
@@ -51,8 +52,8 @@ namespace
 {
 // factorBlock for a block whose rows ≥ N are decoupled (zero off the diagonal): a joint without a limit row in play,
 // whose sixth row is padding. The loops have fixed bounds, so the compiler unrolls each size.
-template <int N>
-int factorBlockCoupled(const Block& d, int ownRows, double pivotFloor, Block& x, BlockVector& invPivot)
+template <int R, int N>
+int factorBlockCoupled(const Block<R>& d, int ownRows, double pivotFloor, Block<R>& x, BlockVector<R>& invPivot)
 {
 	// a[i][j] (i > j) holds L_ij p_j while the factorization runs.
 	double a[N][N];
@@ -84,7 +85,7 @@ int factorBlockCoupled(const Block& d, int ownRows, double pivotFloor, Block& x,
 			for (int q = c + 1; q < i; ++q) s -= l[i][q] * x(q, c);
 			x(i, c) = s;
 		}
-	for (int j = N; j < kBlockRows; ++j)
+	for (int j = N; j < R; ++j)
 	{
 		const bool keep = d(j, j) > pivotFloor;
 		dropped += (!keep && j < ownRows) ? 1 : 0;
@@ -94,62 +95,78 @@ int factorBlockCoupled(const Block& d, int ownRows, double pivotFloor, Block& x,
 }
 }  // namespace
 
-int factorBlock(const Block& d, int ownRows, double pivotFloor, Block& x, BlockVector& invPivot)
+template <int R>
+int factorBlock(const Block<R>& d, int ownRows, double pivotFloor, Block<R>& x, BlockVector<R>& invPivot)
 {
-	const int last = kBlockRows - 1;
-	if (d.row(last).head<last>().isZero(0))
-		return factorBlockCoupled<kBlockRows - 1>(d, ownRows, pivotFloor, x, invPivot);
-	return factorBlockCoupled<kBlockRows>(d, ownRows, pivotFloor, x, invPivot);
+	// A 6-block whose limit slot is out of play (padding or an inactive limit row): its last row is decoupled.
+	// A 5-block has no limit slot.
+	if constexpr (R == 6)
+	{
+		const int last = R - 1;
+		if (d.row(last).template head<last>().isZero(0))
+			return factorBlockCoupled<R, R - 1>(d, ownRows, pivotFloor, x, invPivot);
+	}
+	return factorBlockCoupled<R, R>(d, ownRows, pivotFloor, x, invPivot);
 }
 
-int BlockLDLT::factorize(BlockMatrix& k, double pivotFloor)
+template <int R>
+int BlockLDLT<R>::factorize(BlockMatrix<R>& k, double pivotFloor)
 {
 	const BlockPattern& pattern = *m_pattern;
 	int dropped = 0;
 	for (int col = 0; col < pattern.blockRows(); ++col)
 	{
-		Block x;
-		BlockVector& invPivot = m_invPivot[col];
-		dropped += factorBlock(k.diag[col], pattern.size[col], pivotFloor, x, invPivot);
+		Block<R> x;
+		BlockVector<R>& invPivot = m_invPivot[col];
+		dropped += factorBlock<R>(k.diag[col], pattern.size[col], pivotFloor, x, invPivot);
 		k.diag[col] = x;
 
 		const int first = pattern.colStart[col], last = pattern.colStart[col + 1];
 		for (int s = first; s < last; ++s)
 		{
-			const Block v = k.lower[s] * x.transpose();  // V_ik = W_ik X_kᵀ
+			const Block<R> v = k.lower[s] * logicalRows<R>(x).transpose();  // V_ik = W_ik X_kᵀ
 			k.lower[s] = v;
-			m_w[s - first].noalias() = v * invPivot.asDiagonal();
+			m_w[s - first].noalias() = v * invPivot.template head<R>().asDiagonal();
 		}
 		for (int u = m_updateStart[col]; u < m_updateStart[col + 1]; ++u)
 		{
 			const Update& up = m_updates[u];
-			Block& target = up.target < 0 ? k.diag[-1 - up.target] : k.lower[up.target];
-			target.noalias() -= m_w[up.left - first] * k.lower[first + up.right].transpose();  // K_ij −= V_i P⁻¹ V_jᵀ
+			Block<R>& target = up.target < 0 ? k.diag[-1 - up.target] : k.lower[up.target];
+			// K_ij −= V_i P⁻¹ V_jᵀ
+			target.noalias() -= m_w[up.left - first] * logicalRows<R>(k.lower[first + up.right]).transpose();
 		}
 	}
 	return dropped;
 }
 
-void BlockLDLT::solve(const BlockMatrix& factors, BlockVector* b) const
+template <int R>
+void BlockLDLT<R>::solve(const BlockMatrix<R>& factors, BlockVector<R>* b) const
 {
 	const BlockPattern& pattern = *m_pattern;
 	const int n = pattern.blockRows();
 	for (int col = 0; col < n; ++col)  // forward: u_k = P⁻¹ X_k b_k (kept in b_k), b_i −= V_ik u_k
 	{
-		const BlockVector u = m_invPivot[col].cwiseProduct(factors.diag[col] * b[col]);
+		// whole storage columns (zero on the storage rows): vectorized
+		const BlockVector<R> u = m_invPivot[col].cwiseProduct(factors.diag[col] * b[col].template head<R>());
 		b[col] = u;
 		for (int s = pattern.colStart[col]; s < pattern.colStart[col + 1]; ++s)
-			b[pattern.rowOf[s]].noalias() -= factors.lower[s] * u;
+			b[pattern.rowOf[s]].noalias() -= factors.lower[s] * u.template head<R>();
 	}
 	for (int col = n - 1; col >= 0; --col)  // backward: x_k = X_kᵀ (u_k − P⁻¹ Σ V_ikᵀ x_i)
 	{
-		BlockVector t = BlockVector::Zero();
+		PivotVector<R> t = PivotVector<R>::Zero();
 		for (int s = pattern.colStart[col]; s < pattern.colStart[col + 1]; ++s)
-			t.noalias() += factors.lower[s].transpose() * b[pattern.rowOf[s]];
-		const BlockVector w = b[col] - m_invPivot[col].cwiseProduct(t);
-		b[col] = factors.diag[col].transpose() * w;
+			t.noalias() += factors.lower[s].transpose() * b[pattern.rowOf[s]];  // storage rows: zero in both
+		BlockVector<R> w = b[col];
+		w.template head<R>() -= m_invPivot[col].template head<R>().cwiseProduct(t);
+		b[col].template head<R>() = factors.diag[col].transpose() * w;  // storage rows: zero in both
 	}
 }
+
+template class BlockLDLT<5>;
+template class BlockLDLT<6>;
+template int factorBlock<5>(const Block<5>&, int, double, Block<5>&, BlockVector<5>&);
+template int factorBlock<6>(const Block<6>&, int, double, Block<6>&, BlockVector<6>&);
 
 }  // namespace stabilizer
 }  // namespace quathinge

@@ -2,7 +2,7 @@
 // numbering is a perfect elimination order (Baraff, "Linear-time dynamics using Lagrange multipliers", SIGGRAPH 1996;
 // shared/MATH.md, "for a tree it factorizes in O(n)").
 //
-//   K = L D Lᵀ with L unit block-lower and dense 6×6 diagonal blocks D_k; each D_k = L_k P_k L_kᵀ densely (unit lower
+//   K = L D Lᵀ with L unit block-lower and dense R×R diagonal blocks D_k (R = 5 or 6, BlockMatrix.h); each D_k = L_k P_k L_kᵀ densely (unit lower
 //   L_k, pivots P_k), X_k = L_k⁻¹, so D_k⁻¹ = X_kᵀ P_k⁻¹ X_k. Column k, right-looking, with W_ik = K_ik (updated):
 //     V_ik = W_ik X_kᵀ                      (so L_ik = W_ik D_k⁻¹ = V_ik P_k⁻¹ X_k)
 //     K_ij −= V_ik P_k⁻¹ V_jkᵀ             (= L_ik D_k L_jkᵀ) for every pair i ≥ j of lower blocks in column k
@@ -26,6 +26,7 @@ namespace quathinge
 {
 namespace stabilizer
 {
+template <int R>
 class BlockLDLT
 {
 public:
@@ -33,11 +34,11 @@ public:
 	bool analyze(const BlockPattern& pattern);
 	/// Factorizes k in place. pivotFloor: the smallest acceptable pivot. Returns the number of pivots at or below the
 	/// floor that belong to the joints' own rows (padding rows are not counted).
-	int factorize(BlockMatrix& k, double pivotFloor);
-	/// Solves K x = b in place; b holds kBlockRows entries per block row.
-	void solve(const BlockMatrix& factors, BlockVector* b) const;
+	int factorize(BlockMatrix<R>& k, double pivotFloor);
+	/// Solves K x = b in place; b holds one BlockVector<R> per block row.
+	void solve(const BlockMatrix<R>& factors, BlockVector<R>* b) const;
 	/// 1/p of block row k (0 for a dropped pivot), from the last factorize.
-	const BlockVector& inversePivots(int k) const { return m_invPivot[k]; }
+	const BlockVector<R>& inversePivots(int k) const { return m_invPivot[k]; }
 
 private:
 	struct Update
@@ -49,13 +50,17 @@ private:
 	const BlockPattern* m_pattern = nullptr;
 	std::vector<int> m_updateStart;  // updates of column k: [m_updateStart[k], m_updateStart[k + 1])
 	std::vector<Update> m_updates;
-	std::vector<Block> m_w;                // V_ik P_k⁻¹ of the column being eliminated (by position in the column)
-	std::vector<BlockVector> m_invPivot;  // P_k⁻¹ per block row
+	std::vector<Block<R>> m_w;                // V_ik P_k⁻¹ of the column being eliminated (by position in the column)
+	std::vector<BlockVector<R>> m_invPivot;  // P_k⁻¹ per block row (0 on the block's storage rows)
 };
 
-/// Dense LDLᵀ of a symmetric 6×6 block d = L P Lᵀ: returns X = L⁻¹ and 1/p per row (0 for a pivot ≤ pivotFloor,
-/// a dropped row). Returns how many of the first `ownRows` rows were dropped.
-int factorBlock(const Block& d, int ownRows, double pivotFloor, Block& x, BlockVector& invPivot);
+extern template class BlockLDLT<5>;
+extern template class BlockLDLT<6>;
+
+/// Dense LDLᵀ of a symmetric R×R block d = L P Lᵀ: returns X = L⁻¹ and 1/p per row (0 for a pivot ≤ pivotFloor,
+/// a dropped row; invPivot's storage rows are left alone). Returns how many of the first `ownRows` rows were dropped.
+template <int R>
+int factorBlock(const Block<R>& d, int ownRows, double pivotFloor, Block<R>& x, BlockVector<R>& invPivot);
 
 }  // namespace stabilizer
 }  // namespace quathinge

@@ -4,9 +4,10 @@
 // a limit, one slot for the limit row. K_ij = Σ_b J_ib M_b⁻¹ J_jbᵀ over the movable bodies b that joints i and j share,
 // so K_ij ≠ 0 only for i = j and for pairs of joints on a common body. The pattern holds exactly those blocks, every
 // entry of each (structural zeros included), and never changes while an island's structure is the same.
-// Every block is a fixed 6×6 matrix (kBlockRows): a joint's rows beyond its own are padding, zero off the diagonal,
-// which keeps every block product fixed-size (vectorized, no index arithmetic). The general sparse path copies only
-// each joint's own rows (BlockPattern::size).
+// Every block of an island is a fixed R×R matrix, R = 6 when some joint of the island has a limit slot and 5 when
+// none has (BlockShape): a joint's rows beyond its own are padding, zero off the diagonal, which keeps every block
+// product fixed-size (vectorized, no index arithmetic). The general sparse path copies only each joint's own rows
+// (BlockPattern::size).
 //
 // Glossary: lower block — a block K_ij with i > j (K is symmetric: only the diagonal and lower blocks are stored);
 // padding row — a row of a block beyond the joint's own rows, or a limit slot whose limit is not violated: its J is
@@ -22,11 +23,40 @@ namespace quathinge
 {
 namespace stabilizer
 {
-/// Rows of every block: 3 linear + 2 quaternion + 1 limit.
-const int kBlockRows = 6;
+/// Rows of the largest block: 3 linear + 2 quaternion + 1 limit.
+const int kMaxBlockRows = 6;
 
-typedef Eigen::Matrix<double, kBlockRows, kBlockRows> Block;
-typedef Eigen::Matrix<double, kBlockRows, 1> BlockVector;
+/// An island's block size R: 6 when some joint of the island has a limit slot, else 5 (StabilizerIsland.h).
+/// Every block is stored with an even number of rows (kStorageRows: 6 for both sizes) and R columns: Eigen runs the
+/// fixed-size products of 6-row columns in SSE2 pairs of doubles, and those of 5-row columns as scalar code that costs
+/// more than the whole 6-row column (README, the 5×5-corner experiment). So a 5-block is 6×5: its sixth row is a zero
+/// storage row, never read as a column of the other operand; a product costs 5 columns of 3 pairs instead of 6.
+template <int R>
+struct BlockShape
+{
+	static_assert(R == 5 || R == 6, "blocks are 5 or 6 rows");
+	static constexpr int kRows = R;
+	static constexpr int kStorageRows = (R + 1) / 2 * 2;
+};
+
+/// A block of K: R logical rows (stored in BlockShape<R>::kStorageRows, the rest zero) × R columns.
+template <int R>
+using Block = Eigen::Matrix<double, BlockShape<R>::kStorageRows, R>;
+/// A block row's entries of a vector (right-hand side, λ, C, J v): R logical entries, the storage rows zero.
+template <int R>
+using BlockVector = Eigen::Matrix<double, BlockShape<R>::kStorageRows, 1>;
+
+/// A block row's R logical entries, without storage rows.
+template <int R>
+using PivotVector = Eigen::Matrix<double, R, 1>;
+
+/// The R × R logical part of a block (the block itself when it has no storage rows).
+template <int R, class M>
+decltype(auto) logicalRows(const M& m)
+{
+	if constexpr (int(M::RowsAtCompileTime) == R) return (m);
+	else return m.template topRows<R>();
+}
 
 /// The block structure of a symmetric matrix: diagonal blocks and the lower blocks present, column by column.
 struct BlockPattern
@@ -43,11 +73,12 @@ struct BlockPattern
 	int find(int i, int k) const;
 };
 
-/// Values on a BlockPattern.
+/// Values on a BlockPattern, in blocks of R rows.
+template <int R>
 struct BlockMatrix
 {
-	std::vector<Block> diag;   ///< diagonal blocks (symmetric, stored in full)
-	std::vector<Block> lower;  ///< lower blocks, in pattern order
+	std::vector<Block<R>> diag;   ///< diagonal blocks (symmetric, stored in full)
+	std::vector<Block<R>> lower;  ///< lower blocks, in pattern order
 	void resize(const BlockPattern& pattern)
 	{
 		diag.resize(pattern.blockRows());

@@ -160,6 +160,23 @@ void buildPattern(Island& island)
 			  [](const Coupling& x, const Coupling& y) { return x.block < y.block; });
 	island.couplings.swap(couplings);
 }
+
+// The block-sized data of an island whose joints and pattern are final (zeroed); returns BlockLDLT's analysis
+// (false: the numbering would fill).
+template <int R>
+bool prepareBlocks(BlockIsland<R>& island)
+{
+	JointBlock<R> zero;
+	zero.jacobian.setZero();
+	zero.c.setZero();
+	zero.jv.setZero();
+	zero.h[0].setZero();
+	zero.h[1].setZero();
+	island.blocks.assign(island.joints.size(), zero);
+	island.k.resize(island.pattern);
+	island.lambda.assign(island.joints.size(), BlockVector<R>::Zero());
+	return island.block.analyze(island.pattern);
+}
 }  // namespace
 
 void buildIslands(const std::vector<SignatureEntry>& scan, bool forceSparse,
@@ -186,6 +203,14 @@ void buildIslands(const std::vector<SignatureEntry>& scan, bool forceSparse,
 		if (a >= 0 && b >= 0) parent[findRoot(parent, a)] = findRoot(parent, b);
 	}
 
+	// The block size per root: 6 rows if some joint of the island has a limit slot, else 5.
+	std::vector<char> hasLimitSlot(bodies.size(), 0);
+	for (const SignatureEntry& e : scan)
+	{
+		const int a = indexOf(e, 0), b = indexOf(e, 1);
+		if (e.flags & SignatureEntry::kLimitSlot) hasLimitSlot[findRoot(parent, a >= 0 ? a : b)] = 1;
+	}
+
 	// Island per root; bodies and joints in scan order.
 	std::unordered_map<int, int> islandOf;
 	std::vector<int> localBody(bodies.size(), -1);
@@ -193,7 +218,11 @@ void buildIslands(const std::vector<SignatureEntry>& scan, bool forceSparse,
 	{
 		const int root = findRoot(parent, int(i));
 		auto found = islandOf.emplace(root, int(islands.size()));
-		if (found.second) islands.emplace_back(new Island);
+		if (found.second)
+		{
+			if (hasLimitSlot[root]) islands.emplace_back(new BlockIsland<6>);
+			else islands.emplace_back(new BlockIsland<5>);
+		}
 		Island& island = *islands[found.first->second];
 		localBody[i] = int(island.bodies.size());
 		IslandBody body;
@@ -222,14 +251,8 @@ void buildIslands(const std::vector<SignatureEntry>& scan, bool forceSparse,
 		slot.limitTouched = 0;
 		slot.linearThreshold = slot.angularThreshold = 0;
 		slot.limitGradient.setZero();
-		slot.jacobian.setZero();
-		slot.c.setZero();
-		slot.jv.setZero();
 		for (int side = 0; side < 2; ++side)
-		{
 			slot.linearSign[side] = (e.flags & SignatureEntry::kAngularOnly) ? 0 : (side == 0 ? -1 : 1);
-			slot.h[side].setZero();
-		}
 		island.joints.push_back(slot);
 	}
 
@@ -242,9 +265,8 @@ void buildIslands(const std::vector<SignatureEntry>& scan, bool forceSparse,
 		for (int j : order) ordered.push_back(island.joints[j]);
 		island.joints.swap(ordered);
 		buildPattern(island);
-		island.k.resize(island.pattern);
-		island.lambda.assign(island.joints.size(), BlockVector::Zero());
-		island.treeOrdered = island.block.analyze(island.pattern);
+		if (island.blockRows == 5) island.treeOrdered = prepareBlocks(static_cast<BlockIsland<5>&>(island));
+		else island.treeOrdered = prepareBlocks(static_cast<BlockIsland<6>&>(island));
 		island.useSparse = forceSparse || !island.treeOrdered;
 		if (island.useSparse)
 		{

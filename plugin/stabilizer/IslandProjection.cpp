@@ -163,14 +163,17 @@ struct PositionResidual
 };
 
 // The rows of every joint at the bodies' current transforms, and ‖C‖ against tolerance and the rounding floors.
-PositionResidual evaluatePositions(Island& island, btScalar tolerance)
+template <int R>
+PositionResidual evaluatePositions(BlockIsland<R>& island, btScalar tolerance)
 {
 	PositionResidual res;
 	const btScalar angularThreshold = btMax(tolerance, 4 * SIMD_EPSILON);
 	btScalar c[5];
 	btScalar jac[60];
-	for (JointSlot& js : island.joints)
+	for (size_t j = 0; j < island.joints.size(); ++j)
 	{
+		JointSlot& js = island.joints[j];
+		JointBlock<R>& jb = island.blocks[j];
 		const btTransform& tA = js.rigid[0]->getCenterOfMassTransform();
 		const btTransform& tB = js.rigid[1]->getCenterOfMassTransform();
 		const int rows = js.joint->computePositionRows(tA, tB, c, jac);
@@ -179,8 +182,8 @@ PositionResidual evaluatePositions(Island& island, btScalar tolerance)
 		btScalar linear = 0, angular = 0;
 		for (int r = 0; r < rows; ++r)
 		{
-			js.c[r] = c[r];
-			for (int k = 0; k < 12; ++k) js.jacobian(r, k) = jac[12 * r + k];
+			jb.c[r] = c[r];
+			for (int k = 0; k < 12; ++k) jb.jacobian(r, k) = jac[12 * r + k];
 			btScalar& worst = r < linearRows ? linear : angular;
 			worst = btMax(worst, btFabs(c[r]));
 		}
@@ -193,6 +196,7 @@ PositionResidual evaluatePositions(Island& island, btScalar tolerance)
 		res.angular = btMax(res.angular, angular);
 		res.normalized = btMax(res.normalized, btMax(linear / linearThreshold, angular / angularThreshold));
 		if (!js.limitSlot) continue;
+		btAssert(R == 6);  // an island with a limit slot works in 6-row blocks
 
 		// The limit row: multi-turn angle α = σθ continued from the step's reference, gradient ±σ R_A t.
 		const btMatrix3x3 frameA = tA.getBasis() * js.joint->getAFrame().getBasis();
@@ -220,11 +224,11 @@ PositionResidual evaluatePositions(Island& island, btScalar tolerance)
 		js.limitActive = js.limitTouched != 0;
 		const int r = js.bilateralRows;
 		const btScalar stop = js.limitTouched > 0 ? js.joint->getLowerLimit() : js.joint->getUpperLimit();
-		js.c[r] = js.limitActive ? js.angle - stop : 0;
-		if (js.limitActive) js.jacobian.row(r) = js.limitGradient;
-		else js.jacobian.row(r).setZero();
-		res.angular = btMax(res.angular, btFabs(btScalar(js.c[r])));
-		res.normalized = btMax(res.normalized, btFabs(btScalar(js.c[r])) / angularThreshold);
+		jb.c[r] = js.limitActive ? js.angle - stop : 0;
+		if (js.limitActive) jb.jacobian.row(r) = js.limitGradient;
+		else jb.jacobian.row(r).setZero();
+		res.angular = btMax(res.angular, btFabs(btScalar(jb.c[r])));
+		res.normalized = btMax(res.normalized, btFabs(btScalar(jb.c[r])) / angularThreshold);
 		if (js.limitActive != js.limitActiveInFactor) res.limitsChanged = true;
 	}
 	return res;
@@ -237,14 +241,17 @@ struct VelocityResidual
 	bool limitsChanged = false;  // some limit row's activity differs from the factorized K
 };
 
-// J v per row (into js.jv). decideLimits: choose which limit rows take part (else keep the choice).
+// J v per row (into JointBlock::jv). decideLimits: choose which limit rows take part (else keep the choice).
 // A row's threshold is its position threshold over the time step (what it would drift in the next step), or the
 // rounding floor of J v itself, 4ε·(|v| + |ω|·1 m) of the joint's bodies.
-VelocityResidual evaluateVelocities(Island& island, bool decideLimits, btScalar timeStep)
+template <int R>
+VelocityResidual evaluateVelocities(BlockIsland<R>& island, bool decideLimits, btScalar timeStep)
 {
 	VelocityResidual res;
-	for (JointSlot& js : island.joints)
+	for (size_t j = 0; j < island.joints.size(); ++j)
 	{
+		JointSlot& js = island.joints[j];
+		JointBlock<R>& jb = island.blocks[j];
 		Eigen::Matrix<double, 12, 1> v;
 		btScalar speed = 0;
 		for (int s = 0; s < 2; ++s)
@@ -267,16 +274,16 @@ VelocityResidual evaluateVelocities(Island& island, bool decideLimits, btScalar 
 				const double rate = js.limitGradient.dot(v.transpose());
 				js.limitActive = (js.limitTouched > 0 && rate < 0) || (js.limitTouched < 0 && rate > 0);
 			}
-			if (js.limitActive) js.jacobian.row(r) = js.limitGradient;
-			else js.jacobian.row(r).setZero();
+			if (js.limitActive) jb.jacobian.row(r) = js.limitGradient;
+			else jb.jacobian.row(r).setZero();
 			if (js.limitActive != js.limitActiveInFactor) res.limitsChanged = true;
 		}
-		js.jv.noalias() = js.jacobian * v;
+		jb.jv.noalias() = jb.jacobian * v;
 		const btScalar floor = 4 * SIMD_EPSILON * btMax(btScalar(1), speed);
 		const int linearRows = js.bilateralRows - 2;
 		for (int r = 0; r < js.rows; ++r)
 		{
-			const btScalar value = btFabs(btScalar(js.jv[r]));
+			const btScalar value = btFabs(btScalar(jb.jv[r]));
 			const btScalar threshold = (r < linearRows ? js.linearThreshold : js.angularThreshold) / timeStep;
 			res.max = btMax(res.max, value);
 			res.normalized = btMax(res.normalized, value / btMax(threshold, floor));
@@ -286,31 +293,40 @@ VelocityResidual evaluateVelocities(Island& island, bool decideLimits, btScalar 
 }
 
 // M⁻¹ Jᵀ per joint side (its angular part h; the linear part is linearSign·m⁻¹), at the current J and inertias.
-void computeDirections(Island& island)
+template <int R>
+void computeDirections(BlockIsland<R>& island)
 {
-	for (JointSlot& js : island.joints)
+	for (size_t j = 0; j < island.joints.size(); ++j)
+	{
+		const JointSlot& js = island.joints[j];
+		JointBlock<R>& jb = island.blocks[j];
 		for (int s = 0; s < 2; ++s)
 			if (js.body[s] >= 0)
-				js.h[s].noalias() =
-					island.bodies[js.body[s]].invInertia * js.jacobian.block<kBlockRows, 3>(0, 6 * s + 3).transpose();
+				jb.h[s].noalias() = island.bodies[js.body[s]].invInertia *
+									jb.jacobian.template block<R, 3>(0, 6 * s + 3).transpose();
+	}
 }
 
 // K = J M⁻¹ Jᵀ + regularization into island.k (the directions must be current). Returns the scale s.
 // Per pair of joint sides on body b: J_i M_b⁻¹ J_jᵀ = σ_i σ_j diag(m_b⁻¹) (top-left 3×3) + A_i h_j.
-double assemble(Island& island, double regularization)
+template <int R>
+double assemble(BlockIsland<R>& island, double regularization)
 {
+	constexpr int kStorage = BlockShape<R>::kStorageRows;
 	double trace = 0;
 	int activeRows = 0;
 	for (size_t j = 0; j < island.joints.size(); ++j)
 	{
 		const JointSlot& js = island.joints[j];
-		Block& d = island.k.diag[j];
+		const JointBlock<R>& jb = island.blocks[j];
+		Block<R>& d = island.k.diag[j];
 		d.setZero();
 		for (int s = 0; s < 2; ++s)
 		{
 			if (js.body[s] < 0) continue;
-			d.noalias() += js.jacobian.block<kBlockRows, 3>(0, 6 * s + 3) * js.h[s];
-			if (js.linearSign[s] != 0) d.topLeftCorner<3, 3>().diagonal() += island.bodies[js.body[s]].invMass;
+			// whole storage columns (their storage rows are zero in J): vectorized
+			d.noalias() += jb.jacobian.template block<kStorage, 3>(0, 6 * s + 3) * jb.h[s];
+			if (js.linearSign[s] != 0) d.template topLeftCorner<3, 3>().diagonal() += island.bodies[js.body[s]].invMass;
 		}
 		for (int r = 0; r < js.bilateralRows; ++r) trace += d(r, r);
 		activeRows += js.bilateralRows;
@@ -320,32 +336,34 @@ double assemble(Island& island, double regularization)
 			++activeRows;
 		}
 	}
-	for (Block& b : island.k.lower) b.setZero();
+	for (Block<R>& b : island.k.lower) b.setZero();
 	for (const Coupling& c : island.couplings)
 	{
 		const JointSlot& ji = island.joints[c.i];
 		const JointSlot& jj = island.joints[c.j];
-		Block& b = island.k.lower[c.block];
-		b.noalias() += ji.jacobian.block<kBlockRows, 3>(0, 6 * c.sideI + 3) * jj.h[c.sideJ];
+		Block<R>& b = island.k.lower[c.block];
+		b.noalias() +=
+			island.blocks[c.i].jacobian.template block<kStorage, 3>(0, 6 * c.sideI + 3) * island.blocks[c.j].h[c.sideJ];
 		const double sign = ji.linearSign[c.sideI] * jj.linearSign[c.sideJ];
 		if (sign != 0)
-			b.topLeftCorner<3, 3>().diagonal() += sign * island.bodies[ji.body[c.sideI]].invMass;
+			b.template topLeftCorner<3, 3>().diagonal() += sign * island.bodies[ji.body[c.sideI]].invMass;
 	}
 	// ε s on active rows; s on padding and inactive limit rows (their J rows are zero).
 	const double scale = (activeRows > 0 && trace > 0) ? trace / activeRows : 1.0;
 	for (size_t j = 0; j < island.joints.size(); ++j)
 	{
 		JointSlot& js = island.joints[j];
-		Block& d = island.k.diag[j];
+		Block<R>& d = island.k.diag[j];
 		const int activeEnd = js.bilateralRows + ((js.limitSlot && js.limitActive) ? 1 : 0);
-		for (int r = 0; r < kBlockRows; ++r) d(r, r) = r < activeEnd ? d(r, r) + regularization * scale : scale;
+		for (int r = 0; r < R; ++r) d(r, r) = r < activeEnd ? d(r, r) + regularization * scale : scale;
 		js.limitActiveInFactor = js.limitActive;
 	}
 	return scale;
 }
 
 // Assembles and factorizes K at the current state. False if the factorization failed.
-bool refactorize(Island& island, double regularization, ProjectionResult& result)
+template <int R>
+bool refactorize(BlockIsland<R>& island, double regularization, ProjectionResult& result)
 {
 	computeDirections(island);
 	const double scale = assemble(island, regularization);
@@ -362,23 +380,25 @@ bool refactorize(Island& island, double regularization, ProjectionResult& result
 
 // λ = K⁻¹(−r) with the current factors, r = C (the position stage) or J v (the velocity stage), then
 // Δ_b = Σ M_b⁻¹ J_bᵀ λ per body (into IslandBody::delta).
-void solveDeltas(Island& island, BlockVector JointSlot::*rhs, ProjectionResult& result)
+template <int R>
+void solveDeltas(BlockIsland<R>& island, BlockVector<R> JointBlock<R>::*rhs, ProjectionResult& result)
 {
-	for (size_t j = 0; j < island.joints.size(); ++j) island.lambda[j] = -(island.joints[j].*rhs);
-	if (island.useSparse) island.sparse->solve(island.lambda.data());
+	for (size_t j = 0; j < island.joints.size(); ++j) island.lambda[j] = -(island.blocks[j].*rhs);
+	if (island.useSparse) island.sparse->template solve<R>(island.lambda.data());
 	else island.block.solve(island.k, island.lambda.data());
 	++result.solves;
 	for (IslandBody& b : island.bodies) b.delta.setZero();
 	for (size_t j = 0; j < island.joints.size(); ++j)
 	{
 		const JointSlot& js = island.joints[j];
-		const BlockVector& lambda = island.lambda[j];
+		const JointBlock<R>& jb = island.blocks[j];
+		const BlockVector<R>& lambda = island.lambda[j];
 		for (int s = 0; s < 2; ++s)
 		{
 			if (js.body[s] < 0) continue;
 			IslandBody& b = island.bodies[js.body[s]];
-			if (js.linearSign[s] != 0) b.delta.head<3>() += js.linearSign[s] * b.invMass.cwiseProduct(lambda.head<3>());
-			b.delta.tail<3>().noalias() += js.h[s] * lambda;
+			if (js.linearSign[s] != 0) b.delta.head<3>() += js.linearSign[s] * b.invMass.cwiseProduct(lambda.template head<3>());
+			b.delta.tail<3>().noalias() += jb.h[s] * lambda.template head<R>();
 		}
 	}
 }
@@ -448,7 +468,10 @@ void changeVelocities(Island& island)
 
 }  // namespace
 
-ProjectionResult projectIsland(Island& island, const ProjectionSettings& settings)
+namespace
+{
+template <int R>
+ProjectionResult projectBlocks(BlockIsland<R>& island, const ProjectionSettings& settings)
 {
 	ProjectionResult result;
 	island.stiffMetric = false;
@@ -489,7 +512,7 @@ ProjectionResult projectIsland(Island& island, const ProjectionSettings& setting
 		result.velocityResidualBefore = result.velocityResidualAfter = vres.max;
 		velocitiesProjected = true;
 		if (vres.normalized <= 1) return;
-		solveDeltas(island, &JointSlot::jv, result);
+		solveDeltas(island, &JointBlock<R>::jv, result);
 		changeVelocities(island);
 	};
 
@@ -515,7 +538,7 @@ ProjectionResult projectIsland(Island& island, const ProjectionSettings& setting
 			}
 			else
 				computeDirections(island);  // chord step: the factorized K, the current J
-			solveDeltas(island, &JointSlot::c, result);
+			solveDeltas(island, &JointBlock<R>::c, result);
 			saveTransforms(island);
 			const PositionResidual start = res;
 			double step = 1;
@@ -584,7 +607,7 @@ ProjectionResult projectIsland(Island& island, const ProjectionSettings& setting
 		}
 		else
 			computeDirections(island);
-		solveDeltas(island, &JointSlot::jv, result);
+		solveDeltas(island, &JointBlock<R>::jv, result);
 		changeVelocities(island);
 		const btScalar previous = vres.normalized;
 		vres = evaluateVelocities(island, false, settings.timeStep);
@@ -593,6 +616,13 @@ ProjectionResult projectIsland(Island& island, const ProjectionSettings& setting
 		chordStalled = vres.normalized > kVelocityChordProgress * previous;
 	}
 	return result;
+}
+}  // namespace
+
+ProjectionResult projectIsland(Island& island, const ProjectionSettings& settings)
+{
+	if (island.blockRows == 5) return projectBlocks(static_cast<BlockIsland<5>&>(island), settings);
+	return projectBlocks(static_cast<BlockIsland<6>&>(island), settings);
 }
 
 }  // namespace stabilizer

@@ -38,7 +38,7 @@ void SparseLDLT::analyze(const BlockPattern& pattern)
 	m.resizeNonZeros(0);
 	m.reserve(columnCount);
 	m_diagStart.assign(pattern.rows, 0);
-	m_lowerStart.assign(size_t(pattern.lowerBlocks()) * kBlockRows, 0);
+	m_lowerStart.assign(size_t(pattern.lowerBlocks()) * kMaxBlockRows, 0);
 	for (int k = 0; k < n; ++k)
 		for (int c = 0; c < pattern.size[k]; ++c)
 		{
@@ -62,7 +62,7 @@ void SparseLDLT::analyze(const BlockPattern& pattern)
 			at += pattern.size[k] - c;
 			for (int s = pattern.colStart[k]; s < pattern.colStart[k + 1]; ++s)
 			{
-				m_lowerStart[size_t(s) * kBlockRows + c] = at;
+				m_lowerStart[size_t(s) * kMaxBlockRows + c] = at;
 				at += pattern.size[pattern.rowOf[s]];
 			}
 		}
@@ -71,7 +71,8 @@ void SparseLDLT::analyze(const BlockPattern& pattern)
 	m_eigen->solution.resize(pattern.rows);
 }
 
-bool SparseLDLT::factorize(const BlockMatrix& k)
+template <int R>
+bool SparseLDLT::factorize(const BlockMatrix<R>& k)
 {
 	const BlockPattern& pattern = *m_pattern;
 	double* values = m_eigen->lower.valuePtr();
@@ -88,7 +89,7 @@ bool SparseLDLT::factorize(const BlockMatrix& k)
 			const int mi = pattern.size[pattern.rowOf[s]];
 			for (int c = 0; c < mk; ++c)
 			{
-				double* v = values + m_lowerStart[size_t(s) * kBlockRows + c];
+				double* v = values + m_lowerStart[size_t(s) * kMaxBlockRows + c];
 				for (int r = 0; r < mi; ++r) v[r] = k.lower[s](r, c);
 			}
 		}
@@ -97,7 +98,8 @@ bool SparseLDLT::factorize(const BlockMatrix& k)
 	return m_eigen->ldlt.info() == Eigen::Success;
 }
 
-void SparseLDLT::solve(BlockVector* b)
+template <int R>
+void SparseLDLT::solve(BlockVector<R>* b)
 {
 	const BlockPattern& pattern = *m_pattern;
 	for (int k = 0; k < pattern.blockRows(); ++k)
@@ -106,6 +108,11 @@ void SparseLDLT::solve(BlockVector* b)
 	for (int k = 0; k < pattern.blockRows(); ++k)
 		b[k].head(pattern.size[k]) = m_eigen->solution.segment(pattern.offset[k], pattern.size[k]);
 }
+
+template bool SparseLDLT::factorize<5>(const BlockMatrix<5>&);
+template bool SparseLDLT::factorize<6>(const BlockMatrix<6>&);
+template void SparseLDLT::solve<5>(BlockVector<5>*);
+template void SparseLDLT::solve<6>(BlockVector<6>*);
 
 }  // namespace stabilizer
 }  // namespace quathinge

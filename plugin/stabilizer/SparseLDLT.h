@@ -30,17 +30,25 @@ public:
 	void analyze(const BlockPattern& pattern);
 	/// Copies the values of k (lower triangle) into the fixed pattern and factorizes. False on a numerical failure
 	/// (a zero pivot: the caller then skips the island's correction for this step).
-	bool factorize(const BlockMatrix& k);
-	/// Solves K x = b in place; b holds kBlockRows entries per block row (padding rows are left alone).
-	void solve(BlockVector* b);
+	template <int R>
+	bool factorize(const BlockMatrix<R>& k);
+	/// Solves K x = b in place; b holds one BlockVector<R> per block row (padding rows are left alone).
+	template <int R>
+	void solve(BlockVector<R>* b);
 
 private:
 	struct Eigen3;
 	std::unique_ptr<Eigen3> m_eigen;
 	const BlockPattern* m_pattern = nullptr;
 	std::vector<int> m_diagStart;   // value index of entry (offset_k + c, offset_k + c), per block row k and column c
-	std::vector<int> m_lowerStart;  // value index of the first row of lower block s in each of its columns
+	std::vector<int> m_lowerStart;  // value index of the first row of lower block s in each of its columns (stride
+	                                // kMaxBlockRows)
 };
+
+extern template bool SparseLDLT::factorize<5>(const BlockMatrix<5>&);
+extern template bool SparseLDLT::factorize<6>(const BlockMatrix<6>&);
+extern template void SparseLDLT::solve<5>(BlockVector<5>*);
+extern template void SparseLDLT::solve<6>(BlockVector<6>*);
 
 }  // namespace stabilizer
 }  // namespace quathinge

@@ -11,6 +11,8 @@
 // factorizes it without fill; with loops BlockLDLT::analyze refuses and the island uses SparseLDLT.
 // Rows of joint j: its bilateral rows (5, or 2 when angular-only) at [0, bilateral), then, for a joint with a limit
 // (and projectLimits), one limit slot that is a structural zero row while the limit is not violated.
+// Block size: an island in which some joint has a limit slot works in 6-row blocks, any other in 5-row blocks
+// (BlockMatrix.h; the assembly and factorization of K cost about (5/6)² as much); chosen when the island is built.
 #ifndef QUATHINGE_STABILIZER_ISLAND_H
 #define QUATHINGE_STABILIZER_ISLAND_H
 
@@ -69,7 +71,9 @@ struct IslandBody
 	btTransform saved;                  // the transform before the last Newton step (for backtracking)
 };
 
-typedef Eigen::Matrix<double, kBlockRows, 12> JointJacobian;
+/// J of one joint in R-row blocks (the block's storage rows, BlockShape, are zero).
+template <int R>
+using JointJacobian = Eigen::Matrix<double, BlockShape<R>::kStorageRows, 12>;
 
 struct JointSlot
 {
@@ -89,14 +93,21 @@ struct JointSlot
 	btScalar linearThreshold;  // converged |C| of the linear rows (m): max(tolerance, their rounding floor)
 	btScalar angularThreshold; // … of the angular and limit rows (rad)
 	Eigen::Matrix<double, 1, 12> limitGradient;  // ∂α/∂(v_A, ω_A, v_B, ω_B) at the last evaluation
-	JointJacobian jacobian;    // rows beyond the joint's own and an inactive limit row are zero
-	BlockVector c;             // C at the last position evaluation; zero on padding rows
-	BlockVector jv;            // J v at the last velocity evaluation; zero on padding rows
 	// M_b⁻¹ J_bᵀ for side s (A, B; unused for a fixed side), in the structure every row has (MATH.md, "Bullet's
 	// conventions", Q7): the linear part of J_b is linearSign[s]·[I₃; 0] (the point rows, C = p_B − p_A, so −I for A
-	// and +I for B; 0 for an angular-only joint), hence M_b⁻¹ J_bᵀ = [linearSign·m_b⁻¹ on the first 3 rows; h].
+	// and +I for B; 0 for an angular-only joint), hence M_b⁻¹ J_bᵀ = [linearSign·m_b⁻¹ on the first 3 rows; h]
+	// (h in JointBlock).
 	double linearSign[2];
-	Eigen::Matrix<double, 3, kBlockRows> h[2];  // I_b⁻¹ A_bᵀ, A_b the angular part of J_b (6×3)
+};
+
+/// The per-step rows of one joint in an island of R-row blocks (BlockIsland<R>::blocks, parallel to Island::joints).
+template <int R>
+struct JointBlock
+{
+	JointJacobian<R> jacobian;    // rows beyond the joint's own and an inactive limit row are zero
+	BlockVector<R> c;             // C at the last position evaluation; zero on padding rows
+	BlockVector<R> jv;            // J v at the last velocity evaluation; zero on padding rows
+	Eigen::Matrix<double, 3, R> h[2];  // I_b⁻¹ A_bᵀ, A_b the angular part of J_b (R×3): see JointSlot::linearSign
 };
 
 /// Joints i > j sharing movable body b: K_ij += J_i,b M_b⁻¹ J_j,bᵀ.
@@ -107,18 +118,19 @@ struct Coupling
 	int j, sideJ;
 };
 
+/// What every island holds; the block-sized data is in BlockIsland<blockRows>.
 struct Island
 {
+	explicit Island(int rows) : blockRows(rows) {}
+	virtual ~Island() = default;
+	const int blockRows;  // R: 6 if some joint has a limit slot, else 5
 	std::vector<IslandBody> bodies;
 	std::vector<JointSlot> joints;  // in elimination order
 	BlockPattern pattern;
 	std::vector<Coupling> couplings;
-	BlockMatrix k;
 	bool treeOrdered = false;  // BlockLDLT accepted the numbering (no fill)
 	bool useSparse = false;    // solved by SparseLDLT
-	BlockLDLT block;
 	std::unique_ptr<SparseLDLT> sparse;
-	std::vector<BlockVector> lambda;  // right-hand side, then λ, per joint
 	// The position correction's metric for the rest of a step: M, or M + M_ref (IslandProjection.cpp, "stiff").
 	bool stiffMetric = false;
 	double referenceMass = 0;     // kg: the heaviest body's mass
@@ -126,6 +138,16 @@ struct Island
 	// conserveEnergy (EnergyProjection.cpp): the energy the island had when first projected (J).
 	double energyReference = 0;
 	bool energyReferenceSet = false;
+};
+
+template <int R>
+struct BlockIsland : Island
+{
+	BlockIsland() : Island(R) {}
+	std::vector<JointBlock<R>> blocks;  // per joint, as joints
+	BlockMatrix<R> k;
+	BlockLDLT<R> block;
+	std::vector<BlockVector<R>> lambda;  // right-hand side, then λ, per joint
 };
 
 /// Builds the islands of a scan. forceSparse: every island uses SparseLDLT.
