@@ -31,7 +31,8 @@ $compare --models "$models" -s pendulum chain10 heavy100 four_bar double_pendulu
 $compare --models "$models" -s pendulum chain10 heavy100 --no-reference --series -o "$out/series" >"$out/series.txt"
 note="Measured by \`bash demos/make_report.sh\` on $(lscpu | sed -n 's/^Model name: *//p' | head -1), $(nproc) cores, \
 $(date -u +%Y-%m-%d); 60 Hz, 10 iterations, Bullet $(pkg-config --modversion bullet) float; run time is each run's own \
-thread CPU time. Full data: \`$out/\`."
+thread CPU time; blow-up: the first step with a non-finite state, a body beyond 1e3 m or faster than 1e4 m/s, or energy \
+above its start by more than 10× the energy scale (a runaway). Full data: \`$out/\`."
 /usr/bin/python3 demos/plot_report.py --sweep "$out/sweep/results.json" --series "$out/series/results.json" \
   --table "$out/table/results.json" --images docs/images --markdown docs/images/results.md --readme README.md --note "$note"
 # 4. the energy-consistent stabilizer option on the conservative scenes (README, between the energy markers)

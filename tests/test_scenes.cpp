@@ -198,6 +198,111 @@ TEST(Scenes, LimitsAndServosMeanTheSameAngleInEveryKind)
 	}
 }
 
+TEST(Scenes, Generic6Dof2DoesWhatStockDoes)
+{
+	// 6dof2's own angle is −θ: the factory negates limits, targets and velocities (and turns the child frame by the
+	// range's centre when the range straddles ±π, which 6dof2's wrapped limits cannot hold). A mirrored 6dof2 would
+	// hold the servo at −1.2 rad and sit at the lower stop.
+	RunSettings settings;
+	settings.reference = false;
+	// the servo holds the load where stock holds it, at 60 and 240 Hz (at 30 Hz and 10 iterations 6dof2 sags to
+	// 1.04 rad: solver convergence, 1.199 rad with 200 iterations, not the drive's conversion)
+	const SceneSpec lift = makeScene("motor_lift");
+	for (double dt : {1.0 / 60, 1.0 / 240})
+	{
+		settings.dt = dt;
+		const Metrics stock = runScene(lift, Kind::Stock, settings);
+		const Metrics generic = runScene(lift, Kind::Generic6Dof2, settings);
+		const double kHeldTol = 0.05;  // rad: 6dof2 sags 0.04 rad at 60 Hz, 10 iterations
+		EXPECT_NEAR(stock.finalTheta, 1.2, kHeldTol) << "dt " << dt;
+		EXPECT_NEAR(generic.finalTheta, stock.finalTheta, kHeldTol) << "dt " << dt;
+		EXPECT_LT(generic.limitViolation, 0.05) << "dt " << dt;  // rad: the wrist's [0, 0] limit, on the right side
+	}
+	// a range straddling π: 6dof2 stops the bar inside [2.5, 3.8] as stock does (before the frame turn it wrapped to a
+	// free joint and spun to 19 rad)
+	const SceneSpec acrossPi = makeScene("limit_across_pi");
+	settings.dt = 1.0 / 60;
+	const Metrics stock = runScene(acrossPi, Kind::Stock, settings);
+	const Metrics generic = runScene(acrossPi, Kind::Generic6Dof2, settings);
+	const double kStopTol = 0.05;  // rad past a stop (stock: 0.02 at 60 Hz)
+	EXPECT_LT(stock.limitViolation, kStopTol);
+	EXPECT_LT(generic.limitViolation, kStopTol);
+	EXPECT_GE(generic.finalTheta, 2.5 - kStopTol);
+	EXPECT_LE(generic.finalTheta, 3.8 + kStopTol);
+	// an asymmetric stop [−0.2, 1] met from below at −3 rad/s: the lower stop holds, on the side it was given
+	SceneSpec stop = makeScene("limit_hit");
+	stop.joints[0].lower = btScalar(-0.2);
+	stop.bodies[0].angularVelocity = btVector3(0, -20, 0);
+	const Metrics hitStock = runScene(stop, Kind::Stock, settings);
+	const Metrics hitGeneric = runScene(stop, Kind::Generic6Dof2, settings);
+	EXPECT_LT(hitGeneric.limitViolation, kStopTol);
+	EXPECT_GE(hitGeneric.finalTheta, -0.2 - kStopTol);
+	EXPECT_LE(hitGeneric.finalTheta, 1 + kStopTol);
+	EXPECT_GE(hitStock.finalTheta, -0.2 - 0.4);  // stock reacts a step late (0.33 rad past at 20 rad/s), same side
+}
+
+TEST(Scenes, ServoHoldsAtEveryStepInEveryKind)
+{
+	// The servo's torque is turned into an impulse with the run's own step: held at 1.2 rad at 1/60 and 1/240 s
+	// by every kind (an impulse fixed for 60 Hz would give 4× the torque at 240 Hz and a quarter at 15 Hz).
+	const SceneSpec lift = makeScene("motor_lift");
+	for (Kind kind : {Kind::Stock, Kind::Generic6Dof2, Kind::Quaternion, Kind::MultiBody})
+		for (double dt : {1.0 / 60, 1.0 / 240})
+		{
+			RunSettings settings;
+			settings.reference = false;
+			settings.dt = dt;
+			const Metrics m = runScene(lift, kind, settings);
+			EXPECT_NEAR(m.finalTheta, 1.2, 0.05) << kindName(kind) << " dt " << dt;  // rad
+		}
+	// a torque too weak to lift the load at full speed (the arm and load weigh up to 60 N·m about the shoulder): every
+	// kind ends where stock ends at the same step, and at 60 Hz where at 240 Hz. An impulse fixed for 60 Hz would be
+	// 4× the torque at 240 Hz and lift faster and higher there.
+	SceneSpec weak = lift;
+	weak.joints[0].maxEffort = 62;  // N·m
+	weak.duration = 0.5;  // mid-lift: θ(0.5 s) measures the torque, not only where it stalls
+	double stockAt[2] = {0, 0};
+	for (Kind kind : {Kind::Stock, Kind::Generic6Dof2, Kind::Quaternion, Kind::MultiBody})
+	{
+		double at[2];
+		for (int k = 0; k < 2; ++k)
+		{
+			RunSettings settings;
+			settings.reference = false;
+			settings.dt = k == 0 ? 1.0 / 60 : 1.0 / 240;
+			at[k] = runScene(weak, kind, settings).finalTheta;
+			if (kind == Kind::Stock) stockAt[k] = at[k];
+		}
+		std::printf("[ figures  ] motor_lift at 62 N·m, %s: θ(0.5 s) %.3f rad at 60 Hz, %.3f at 240 Hz\n",
+					kindName(kind).c_str(), at[0], at[1]);
+		const double kTol = 0.1;  // rad
+		EXPECT_NEAR(at[0], at[1], kTol) << kindName(kind);
+		EXPECT_NEAR(at[1], stockAt[1], kTol) << kindName(kind);
+		EXPECT_LT(at[1], 1.1) << kindName(kind);  // rad: still short of the 1.2 target
+	}
+}
+
+TEST(Scenes, RunawayEnergyIsABlowUp)
+{
+	// btMultiBody's explicit integrator spins the tumbling rotor up without bound at 60 Hz (its energy grows
+	// quadratically; positions stay finite and near the origin): flagged as a blow-up with its time once the energy
+	// passes kRunawayEnergyGain × the scale. A flipped start releases ≲2× the scale and is no blow-up.
+	RunSettings settings;
+	settings.reference = false;
+	settings.duration = 3;
+	const Metrics rotor = runScene(makeScene("rotor100"), Kind::MultiBody, settings);
+	EXPECT_TRUE(rotor.blewUp);
+	EXPECT_GT(rotor.blowUpTime, 0.1);  // s: not a state that was bad from the start
+	EXPECT_LT(rotor.blowUpTime, 3);
+	EXPECT_GT(rotor.maxEnergyGain, kRunawayEnergyGain);
+	const Metrics stock = runScene(makeScene("rotor100"), Kind::Stock, settings);
+	EXPECT_FALSE(stock.blewUp);
+	EXPECT_LT(stock.maxEnergyGain, 1);
+	const Metrics flipped = runScene(makeScene("flipped180"), Kind::Quaternion, settings);
+	EXPECT_FALSE(flipped.blewUp);
+	EXPECT_LT(flipped.maxEnergyGain, kRunawayEnergyGain / 2);
+}
+
 TEST(Scenes, PendulumPeriodWithinHalfAPercentAt240Hz)
 {
 	// The physical pendulum released at 90°: its measured period is within 0.5% of the elliptic-integral value.

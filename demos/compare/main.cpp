@@ -35,13 +35,13 @@ void writeCsv(const std::string& path, const std::vector<Metrics>& results)
 	std::ofstream out(path);
 	out << "scene,kind,dt,iterations,skipped,max_separation_m,rms_separation_m,max_misalignment_deg,"
 		   "rms_misalignment_deg,recovery_time_s,limit_violation_rad,final_theta_rad,energy_drift,trajectory_error,reference,blew_up,"
-		   "blow_up_time_s,wall_per_sim_s,cpu_per_sim_s,"
+		   "blow_up_time_s,max_energy_gain,wall_per_sim_s,cpu_per_sim_s,"
 		   "rows_per_step,steps\n";
 	for (const Metrics& m : results)
 		out << m.scene << ',' << m.kind << ',' << m.dt << ',' << m.iterations << ",\"" << m.skipped << "\","
 			<< m.maxSeparation << ',' << m.rmsSeparation << ',' << m.maxMisalignmentDeg << ',' << m.rmsMisalignmentDeg
 			<< ',' << m.recoveryTime << ',' << m.limitViolation << ',' << m.finalTheta << ',' << m.energyDrift << ',' << m.trajectoryError << ",\"" << m.reference << "\"," << m.blewUp << ','
-			<< m.blowUpTime << ',' << m.wallPerSimSecond << ',' << m.cpuPerSimSecond << ',' << m.rowsPerStep << ',' << m.steps << '\n';
+			<< m.blowUpTime << ',' << m.maxEnergyGain << ',' << m.wallPerSimSecond << ',' << m.cpuPerSimSecond << ',' << m.rowsPerStep << ',' << m.steps << '\n';
 }
 
 void writeJson(const std::string& path, const std::vector<Metrics>& results)
@@ -66,6 +66,7 @@ void writeJson(const std::string& path, const std::vector<Metrics>& results)
 							{"reference", m.reference},
 							{"blew_up", m.blewUp},
 							{"blow_up_time_s", m.blowUpTime},
+							{"max_energy_gain", m.maxEnergyGain},
 							{"wall_per_sim_s", m.wallPerSimSecond},
 							{"cpu_per_sim_s", m.cpuPerSimSecond},
 							{"rows_per_step", m.rowsPerStep},
@@ -261,5 +262,9 @@ int main(int argc, char** argv)
 							 "scale; traj err: m against the fine-step reference, or relative period error; wall/cpu ms/s: "
 							 "milliseconds of wall / this thread's CPU time per simulated second; rows: solver rows per step.\n",
 							 out, results.size());
+	std::cout << fmt::format("blow-up s: time of the first step with a non-finite state, a body beyond {:g} m or faster "
+							 "than {:g} m/s, or a runaway: energy above its start by more than {:g}x the energy scale "
+							 "(sum of m g max(extent, 1 m) plus the initial kinetic energy; max_energy_gain in the JSON).\n",
+							 kRunawayDistance, kRunawaySpeed, kRunawayEnergyGain);
 	return 0;
 }

@@ -81,7 +81,8 @@ public:
 	btTypedConstraint* makeHinge(const JointSpec& j, btRigidBody& a, btRigidBody& b, const btTransform& fa,
 								 const btTransform& fb, std::vector<StepHook>&) const override
 	{
-		auto* d = hinge(a, b, fa, fb, j.hasLimit, j.lower, j.upper);
+		btScalar offset = 0;
+		auto* d = hinge(a, b, fa, fb, j.hasLimit, j.lower, j.upper, offset);
 		if (j.drive == Drive::Velocity)
 		{
 			d->enableMotor(5, true);
@@ -92,7 +93,7 @@ public:
 		{
 			d->enableMotor(5, true);
 			d->setServo(5, true);
-			d->setServoTarget(5, -j.target);
+			d->setServoTarget(5, btNormalizeAngle(-(j.target - offset)));  // its angle is −(θ − offset), wrapped
 			d->setTargetVelocity(5, j.maxSpeed);  // a speed: the servo picks the sign
 			d->setMaxMotorForce(5, j.maxEffort);
 		}
@@ -101,8 +102,9 @@ public:
 	btTypedConstraint* convertStock(btHingeConstraint& h, std::vector<StepHook>& hooks) const override
 	{
 		const StockLimits limits = stockLimitsOnTheta(h);
+		btScalar offset = 0;
 		auto* d = hinge(h.getRigidBodyA(), h.getRigidBodyB(), h.getAFrame(), h.getBFrame(), h.hasLimit(), limits.lower,
-						limits.upper);
+						limits.upper, offset);
 		if (h.getEnableAngularMotor())
 		{
 			d->enableMotor(5, true);
@@ -114,16 +116,28 @@ public:
 	}
 
 private:
+	// 6dof2 wraps its limits into [−π, π] (setAngularLower/UpperLimit call btNormalizeAngle), so a θ range that maps
+	// outside it — one straddling ±π, such as [2.5, 3.8] — would wrap to lower > upper and leave the joint free. As a
+	// user would, the child's frame is then turned by the range's centre c about z (θ = 0 of the constraint's own angle
+	// at c), so the stops [−(hi − c), −(lo − c)] lie inside (−π, π) for any range narrower than a turn. `offset` returns
+	// c (0 when no turn was needed: every other joint is built exactly as before). A range of a turn or more cannot be
+	// expressed by a wrapped angle: it is passed as it is (both ends wrap to ±π, a stop at π, as stock's).
 	static btGeneric6DofSpring2Constraint* hinge(btRigidBody& a, btRigidBody& b, const btTransform& fa,
-												 const btTransform& fb, bool hasLimit, btScalar lower, btScalar upper)
+												 const btTransform& fb, bool hasLimit, btScalar lower, btScalar upper,
+												 btScalar& offset)
 	{
-		auto* d = new btGeneric6DofSpring2Constraint(a, b, fa, fb, RO_XYZ);
+		offset = 0;
+		if (hasLimit && (-upper < -SIMD_PI || -lower > SIMD_PI) && upper - lower < SIMD_2_PI)
+			offset = btScalar(0.5) * (lower + upper);
+		btTransform childFrame = fb;
+		if (offset != 0) childFrame.setBasis(fb.getBasis() * btMatrix3x3(btQuaternion(btVector3(0, 0, 1), -offset)));
+		auto* d = new btGeneric6DofSpring2Constraint(a, b, fa, childFrame, RO_XYZ);
 		d->setLinearLowerLimit(btVector3(0, 0, 0));
 		d->setLinearUpperLimit(btVector3(0, 0, 0));
 		if (hasLimit)
 		{
-			d->setAngularLowerLimit(btVector3(0, 0, -upper));
-			d->setAngularUpperLimit(btVector3(0, 0, -lower));
+			d->setAngularLowerLimit(btVector3(0, 0, -(upper - offset)));
+			d->setAngularUpperLimit(btVector3(0, 0, -(lower - offset)));
 		}
 		else
 		{

@@ -506,7 +506,7 @@ bool Simulation::finiteAndBounded() const
 	{
 		const btVector3 p = b->getCenterOfMassPosition(), v = b->getLinearVelocity();
 		if (!std::isfinite(double(p.length2() + v.length2()))) return false;
-		if (p.length() > 1e3 || v.length() > 1e4) return false;
+		if (double(p.length()) > kRunawayDistance || double(v.length()) > kRunawaySpeed) return false;
 	}
 	return true;
 }
@@ -621,7 +621,8 @@ Metrics runScene(const SceneSpec& scene, Kind kind, const RunSettings& settings)
 		externalFailure = e.what();
 	}
 	const double e0 = sim->energy();
-	// energy scale: the potential energy a body could exchange over the scene's size, plus the initial kinetic energy
+	// energy scale: the potential energy a body could exchange over the scene's size, plus the initial kinetic energy;
+	// gravity counts as at least kEnergyScaleGravity, so a weightless scene at rest (the flipped starts) still has one
 	double scale = 0;
 	{
 		double extent = 0;
@@ -632,7 +633,7 @@ Metrics runScene(const SceneSpec& scene, Kind kind, const RunSettings& settings)
 		{
 			if (b->getInvMass() == 0) continue;
 			const double mass = 1.0 / double(b->getInvMass());
-			scale += mass * double(scene.gravity.length()) * std::max(extent, 1.0);
+			scale += mass * std::max(double(scene.gravity.length()), kEnergyScaleGravity) * std::max(extent, 1.0);
 			pe -= mass * double(scene.gravity.dot(b->getCenterOfMassPosition()));
 		}
 		scale += std::fabs(e0 - pe);  // the initial kinetic energy
@@ -652,10 +653,11 @@ Metrics runScene(const SceneSpec& scene, Kind kind, const RunSettings& settings)
 		rows += sim->rows();
 		const double t = i * settings.dt;
 		const double e = sim->energy();
-		// blow-up: a non-finite or far-flung body, or a runaway — the energy grew past 100× the system's energy scale
+		// blow-up (JointKinds.h): a non-finite, far-flung or too fast body, or a runaway — the energy grew past
+		// kRunawayEnergyGain × the system's energy scale
 		// (a joint that stays on its manifold while spinning ever faster, as explicit Featherstone can at a large step)
-		const double kRunawayEnergy = 100;  // × energy scale
-		if (!sim->finiteAndBounded() || !std::isfinite(e) || e - e0 > kRunawayEnergy * scale)
+		if (std::isfinite(e)) m.maxEnergyGain = std::max(m.maxEnergyGain, (e - e0) / scale);
+		if (!sim->finiteAndBounded() || !std::isfinite(e) || e - e0 > kRunawayEnergyGain * scale)
 		{
 			m.blewUp = true;
 			m.blowUpTime = t;

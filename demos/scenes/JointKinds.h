@@ -55,6 +55,19 @@ struct SeriesPoint
 	double t, separation, misalignmentDeg, energy;
 };
 
+/// A run "blows up" at the first step where a body's state is not finite, a body's centre of mass is farther than
+/// kRunawayDistance from the origin or faster than kRunawaySpeed, or the total energy (kinetic + gravitational) exceeds
+/// its start by more than kRunawayEnergyGain times the scene's energy scale. The energy scale (also the unit of
+/// Metrics::energyDrift) is Σ m·max(|g|, kEnergyScaleGravity)·max(extent, 1 m) over the dynamic bodies (the potential
+/// energy they could exchange across the scene; extent: the largest distance between two bodies at the start) plus
+/// the initial kinetic energy. No drive, contact, spin or flipped start in the library gains more than 3× it
+/// (maxEnergyGain in the report), so 10× is a runaway: joints spinning ever faster while they stay on their manifold
+/// (btMultiBody's explicit integrator at 60 Hz in the 3-D chains and the rotor).
+constexpr double kRunawayEnergyGain = 10;  ///< × energy scale
+constexpr double kEnergyScaleGravity = 10;  ///< m/s², the least gravity the energy scale assumes
+constexpr double kRunawaySpeed = 1e4;       ///< m/s, a body's centre of mass
+constexpr double kRunawayDistance = 1e3;    ///< m from the origin
+
 struct Metrics
 {
 	std::string scene, kind;
@@ -71,7 +84,9 @@ struct Metrics
 	double recoveryTime = -1;            ///< s after which every joint's misalignment stays below 1°; −1 if never
 	double limitViolation = -1;          ///< rad, worst excursion past a limit (θ from the frames); −1: no limits
 	double finalTheta = 0;               ///< rad, the first joint's continuous θ at the end (from the frames)
-	bool blewUp = false;
+	/// max (E − E₀) / energy scale over the run, every scene (drives and contacts included): what the runaway test reads
+	double maxEnergyGain = 0;
+	bool blewUp = false;                 ///< non-finite or far-flung state, or a runaway (kRunawayEnergyGain)
 	double blowUpTime = -1;              ///< s
 	double wallPerSimSecond = 0;         ///< s of wall time per simulated second (the scene alone, no reference)
 	double cpuPerSimSecond = 0;          ///< s of this thread's CPU time per simulated second (immune to other load)
