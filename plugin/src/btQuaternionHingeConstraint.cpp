@@ -218,15 +218,43 @@ btQuaternionHingeConstraint::btQuaternionHingeConstraint(btRigidBody& rbA, btRig
 	setMaxFrictionTorque(settings.maxFrictionTorque);
 }
 
-btQuaternionHingeConstraint::Pose btQuaternionHingeConstraint::poseAt(const btTransform& transA,
-																	const btTransform& transB) const
+namespace
 {
-	// One matrix-to-quaternion conversion: q from R_Aᵀ R_B of the joint frames.
-	Pose pose;
-	pose.frameA = transA * m_settings.frameInA;
-	pose.frameB = transB * m_settings.frameInB;
-	pose.frameA.getBasis().transposeTimes(pose.frameB.getBasis()).getRotation(pose.q);
-	return pose;
+// q from the rotation matrix m = R_Aᵀ R_B (Q2), as btMatrix3x3::getRotation computes it (the same operations in the same
+// order, so the same bits), with the two branches a hinge takes written out: q0 from the trace while it is positive
+// (|θ| < 120°), else q_z from the z diagonal, which is the largest one near the hinge (the axes within 90°) for any
+// angle. getRotation picks its branch from indices it computes and addresses a temporary through them, which costs
+// several times the arithmetic; anything else (axes far apart) still goes through it.
+inline void rotationToQuaternion(const btMatrix3x3& m, btQuaternion& q)
+{
+	const btScalar m00 = m[0].x(), m11 = m[1].y(), m22 = m[2].z();
+	const btScalar trace = m00 + m11 + m22;
+	if (trace > btScalar(0))
+	{
+		btScalar s = btSqrt(trace + btScalar(1));
+		const btScalar w = s * btScalar(0.5);
+		s = btScalar(0.5) / s;
+		q.setValue((m[2].y() - m[1].z()) * s, (m[0].z() - m[2].x()) * s, (m[1].x() - m[0].y()) * s, w);
+	}
+	else if (m00 < m11 ? m11 < m22 : m00 < m22)  // getRotation's i = 2 (then j = 0, k = 1)
+	{
+		btScalar s = btSqrt(m22 - m00 - m11 + btScalar(1));
+		const btScalar z = s * btScalar(0.5);
+		s = btScalar(0.5) / s;
+		q.setValue((m[0].z() + m[2].x()) * s, (m[1].z() + m[2].y()) * s, z, (m[1].x() - m[0].y()) * s);
+	}
+	else
+		m.getRotation(q);
+}
+}  // namespace
+
+void btQuaternionHingeConstraint::poseAt(const btTransform& transA, const btTransform& transB, Pose& pose) const
+{
+	// One matrix-to-quaternion conversion: q from R_Aᵀ R_B of the joint frames (the products as btTransform's).
+	pose.basisA = transA.getBasis() * m_settings.frameInA.getBasis();
+	pose.pivotA = transA(m_settings.frameInA.getOrigin());
+	pose.pivotB = transB(m_settings.frameInB.getOrigin());
+	rotationToQuaternion(pose.basisA.transposeTimes(transB.getBasis() * m_settings.frameInB.getBasis()), pose.q);
 }
 
 void btQuaternionHingeConstraint::initFromSettings()
@@ -477,7 +505,9 @@ btScalar btQuaternionHingeConstraint::getHingeAngle() const
 btScalar btQuaternionHingeConstraint::getHingeAngle(const btTransform& transA, const btTransform& transB) const
 {
 	// (Q11) with stock's sign
-	return userSign(m_settings.useReferenceFrameA) * hingeAngle(poseAt(transA, transB).q);
+	Pose pose;
+	poseAt(transA, transB, pose);
+	return userSign(m_settings.useReferenceFrameA) * hingeAngle(pose.q);
 }
 
 bool btQuaternionHingeConstraint::needsAngle() const
@@ -525,12 +555,12 @@ void btQuaternionHingeConstraint::testLimit(const btTransform& transA, const btT
 {
 	m_limitSign = 0;
 	if (!m_settings.hasLimit) return;
-	m_pose = poseAt(transA, transB);
+	poseAt(transA, transB, m_pose);
 	m_poseCached = true;
 	const btScalar sigma = userSign(m_settings.useReferenceFrameA);
 	updateMultiTurnAngle(sigma * hingeAngle(m_pose.q));
 	// reach this step: the current relative speed about the axis times the last step (unknown before the first)
-	const btVector3 axis = m_pose.frameA.getBasis() * axialRowDirection(m_pose.q);
+	const btVector3 axis = m_pose.basisA * axialRowDirection(m_pose.q);
 	m_limitReach = btFabs(axis.dot(m_rbB.getAngularVelocity() - m_rbA.getAngularVelocity())) * m_lastTimeStep;
 	const LimitState limit = evaluateLimit(m_settings, m_multiTurnAngle, m_limitReach);
 	m_limitSign = limit.sign;
@@ -675,7 +705,7 @@ void btQuaternionHingeConstraint::computeRowCount(btConstraintInfo1* info, const
 		if (m_settings.hasLimit) testLimit(transA, transB);  // caches the pose, advances the multi-turn angle
 		else
 		{
-			m_pose = poseAt(transA, transB);
+			poseAt(transA, transB, m_pose);
 			m_poseCached = true;
 			updateMultiTurnAngle(userSign(m_settings.useReferenceFrameA) * hingeAngle(m_pose.q));
 		}
@@ -735,10 +765,9 @@ inline void writeAngularRow(btTypedConstraint::btConstraintInfo2* info, int at, 
 }  // namespace
 
 int btQuaternionHingeConstraint::fillBilateralRows(btConstraintInfo2* info, const btTransform& transA,
-												  const btTransform& transB, const btTransform& frameA,
-												  const btTransform& frameB, const btQuaternion& q) const
+												  const btTransform& transB, const Pose& pose) const
 {
-	// frameA, frameB: the joint frames in world; q = a* ⊗ b (Q2).
+	// pose: joint frame A's basis and both pivots in world; q = a* ⊗ b (Q2).
 	const int skip = info->rowskip;
 	const bool angularOnly = m_settings.angularOnly;
 	const btScalar erpFps = info->erp * info->fps;
@@ -754,14 +783,13 @@ int btQuaternionHingeConstraint::fillBilateralRows(btConstraintInfo2* info, cons
 	// (Q10), with e ∈ {p, t, a} (SolverRowBasis.h: a rotation of the row space that Gauss–Seidel converges on as fast
 	// as on stock's rows; computePositionRows keeps world x, y, z). The solver hands rows in zeroed; every entry of a
 	// row is written all the same (straight-line stores are cheaper than skipping zeros).
-	const btVector3 rA = frameA.getOrigin() - transA.getOrigin();
-	const btVector3 rB = frameB.getOrigin() - transB.getOrigin();
-	const PointRowBasis basis =
-		pointRowBasis(frameA.getBasis(), rA, rB, m_rbA.getInvMass(), m_rbB.getInvMass());
+	const btVector3 rA = pose.pivotA - transA.getOrigin();
+	const btVector3 rB = pose.pivotB - transB.getOrigin();
+	const PointRowBasis basis = pointRowBasis(pose.basisA, rA, rB, m_rbA.getInvMass(), m_rbB.getInvMass());
 	int row = 0;
 	if (!angularOnly)
 	{
-		const btVector3 c = frameB.getOrigin() - frameA.getOrigin();
+		const btVector3 c = pose.pivotB - pose.pivotA;
 		const btVector3* directions[3] = {&basis.p, &basis.t, &basis.a};
 		for (int i = 0; i < 3; ++i, ++row)
 		{
@@ -776,7 +804,7 @@ int btQuaternionHingeConstraint::fillBilateralRows(btConstraintInfo2* info, cons
 	// Quaternion part (Q7, Q9, Q10; the log form beyond 90°, Q12): body A −g, body B +g, error −erp·fps·C; for the
 	// solver turned within the part's plane so the first row lies along p (SolverRowBasis.h).
 	AngularRows angular;
-	computeAngularRows(frameA.getBasis(), q, angular);
+	computeAngularRows(pose.basisA, pose.q, angular);
 	btScalar cosPsi, sinPsi;
 	quaternionRowTurn(angular.rowU, angular.rowV, basis.p, cosPsi, sinPsi);
 	const int atU = row * skip, atV = atU + skip;
@@ -794,13 +822,14 @@ int btQuaternionHingeConstraint::computePositionRows(const btTransform& transA, 
 {
 	// The same equations as the solver's rows, unrotated: point rows along world x, y, z (row i: J1 = (−e_i, e_i × r_A),
 	// J2 = (e_i, r_B × e_i)), then the two quaternion rows (Q7, Q9; Q12 past 90°): J1 = (0, −g), J2 = (0, g).
-	const Pose pose = poseAt(transA, transB);
+	Pose pose;
+	poseAt(transA, transB, pose);
 	int rows = 0;
 	if (!m_settings.angularOnly)
 	{
-		const btVector3 rA = pose.frameA.getOrigin() - transA.getOrigin();
-		const btVector3 rB = pose.frameB.getOrigin() - transB.getOrigin();
-		const btVector3 c = pose.frameB.getOrigin() - pose.frameA.getOrigin();
+		const btVector3 rA = pose.pivotA - transA.getOrigin();
+		const btVector3 rB = pose.pivotB - transB.getOrigin();
+		const btVector3 c = pose.pivotB - pose.pivotA;
 		for (; rows < 3; ++rows)
 		{
 			btVector3 e(0, 0, 0);
@@ -818,7 +847,7 @@ int btQuaternionHingeConstraint::computePositionRows(const btTransform& transA, 
 		}
 	}
 	AngularRows angular;
-	computeAngularRows(pose.frameA.getBasis(), pose.q, angular);
+	computeAngularRows(pose.basisA, pose.q, angular);
 	const btVector3* g[2] = {&angular.rowU, &angular.rowV};
 	const btScalar value[2] = {angular.errorU, angular.errorV};
 	for (int r = 0; r < 2; ++r, ++rows)
@@ -842,10 +871,12 @@ void btQuaternionHingeConstraint::fillRows(btConstraintInfo2* info, const btTran
 {
 	if (m_numRows == 0) return;
 	m_lastTimeStep = btScalar(1) / info->fps;
-	if (!m_poseCached) m_pose = poseAt(transA, transB);
+	// the pose getInfo1 cached, used in place; else computed here (no copy either way)
+	Pose computed;
+	if (!m_poseCached) poseAt(transA, transB, computed);
+	const Pose& pose = m_poseCached ? m_pose : computed;
 	m_poseCached = false;  // the cache belongs to this getInfo1/getInfo2 pair
-	const Pose& pose = m_pose;
-	int row = fillBilateralRows(info, transA, transB, pose.frameA, pose.frameB, pose.q);
+	int row = fillBilateralRows(info, transA, transB, pose);
 	const int skip = info->rowskip;
 
 	const bool drive = driveActive(m_settings);
@@ -854,7 +885,7 @@ void btQuaternionHingeConstraint::fillRows(btConstraintInfo2* info, const btTran
 
 	// Axis part: rows along J_α = σ R_A t (HingeAngle.h: the exact gradient of the angle within 90° of assembly).
 	const btScalar sigma = userSign(m_settings.useReferenceFrameA);
-	const btVector3 axis = sigma * (pose.frameA.getBasis() * axialRowDirection(pose.q));
+	const btVector3 axis = sigma * (pose.basisA * axialRowDirection(pose.q));
 	const btScalar rate = axis.dot(angVelB - angVelA);
 	const btScalar normalErp = rowErp(kAxialKind, info->erp);
 	auto emit = [&](const AxialRow& axial, bool setCfm, btScalar cfm) {

@@ -273,14 +273,16 @@ public:
 	void debugDraw(btIDebugDraw * drawer, btScalar size = btScalar(0.3)) const;
 
 private:
-	/// The joint frames in world and q = a* ⊗ b (Q2) for one pair of body transforms.
+	/// What the rows need of the joint frames in world for one pair of body transforms: frame A's basis R_A, both
+	/// pivots, and q = a* ⊗ b (Q2). Frame B's basis only enters q, so it is not kept.
 	struct Pose
 	{
-		btTransform frameA;
-		btTransform frameB;
+		btMatrix3x3 basisA;
+		btVector3 pivotA;
+		btVector3 pivotB;
 		btQuaternion q;
 	};
-	Pose poseAt(const btTransform& transA, const btTransform& transB) const;
+	void poseAt(const btTransform& transA, const btTransform& transB, Pose& pose) const;
 	void initFromSettings();
 	void validateFramesIfEdited();
 	void rebranchForLimit();
@@ -288,7 +290,7 @@ private:
 	bool needsAngle() const;
 	void computeRowCount(btConstraintInfo1 * info, const btTransform& transA, const btTransform& transB);
 	int fillBilateralRows(btConstraintInfo2 * info, const btTransform& transA, const btTransform& transB,
-						  const btTransform& frameA, const btTransform& frameB, const btQuaternion& q) const;
+						  const Pose& pose) const;
 	void fillRows(btConstraintInfo2 * info, const btTransform& transA, const btTransform& transB,
 				  const btVector3& angVelA, const btVector3& angVelB);
 	btScalar rowErp(int kind, btScalar globalErp) const;
