@@ -7,6 +7,7 @@
 #include "AxisRows.h"
 #include "HingeAngle.h"
 #include "InputChecks.h"
+#include "MatrixLanes.h"
 #include "QuaternionHingeRows.h"
 #include "SolverRowBasis.h"
 
@@ -250,11 +251,15 @@ inline void rotationToQuaternion(const btMatrix3x3& m, btQuaternion& q)
 
 void btQuaternionHingeConstraint::poseAt(const btTransform& transA, const btTransform& transB, Pose& pose) const
 {
-	// One matrix-to-quaternion conversion: q from R_Aᵀ R_B of the joint frames (the products as btTransform's).
-	pose.basisA = transA.getBasis() * m_settings.frameInA.getBasis();
+	// One matrix-to-quaternion conversion: q from R_Aᵀ R_B of the joint frames (the products with btTransform's bits,
+	// MatrixLanes.h).
+	multiplyRows(transA.getBasis(), m_settings.frameInA.getBasis(), pose.basisA);
 	pose.pivotA = transA(m_settings.frameInA.getOrigin());
 	pose.pivotB = transB(m_settings.frameInB.getOrigin());
-	rotationToQuaternion(pose.basisA.transposeTimes(transB.getBasis() * m_settings.frameInB.getBasis()), pose.q);
+	btMatrix3x3 basisB, relative;
+	multiplyRows(transB.getBasis(), m_settings.frameInB.getBasis(), basisB);
+	transposeMultiplyRows(pose.basisA, basisB, relative);
+	rotationToQuaternion(relative, pose.q);
 }
 
 void btQuaternionHingeConstraint::initFromSettings()

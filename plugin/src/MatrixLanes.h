@@ -1,0 +1,46 @@
+// 3×3 products row by row in SIMD lanes (GCC/Clang vector extensions), with the bits of btMatrix3x3's scalar
+// products: Bullet's Debian build has no SSE in its API, so btMatrix3x3::operator* and transposeTimes form every entry
+// as a three-term dot product, which the compiler schedules one scalar at a time. Entry (i, c) of m1·m2 is
+// m1[i][0]·m2[0][c] + m1[i][1]·m2[1][c] + m1[i][2]·m2[2][c], summed left to right; a row of the product is therefore
+// m1[i][0]·m2[0] + m1[i][1]·m2[1] + m1[i][2]·m2[2] lane by lane, the same products added in the same order (x86-64
+// without -march has no FMA to contract them into), so every entry has the same bits as Bullet's. A btVector3 holds four
+// lanes; the fourth is padding (zero in every matrix Bullet builds) and is carried along, never read back.
+#ifndef QUATHINGE_MATRIX_LANES_H
+#define QUATHINGE_MATRIX_LANES_H
+
+#include "LinearMath/btMatrix3x3.h"
+
+#include <cstring>
+
+namespace quathinge
+{
+typedef btScalar Lanes __attribute__((vector_size(4 * sizeof(btScalar))));
+
+inline Lanes lanesOf(const btVector3& v)
+{
+	Lanes l;
+	std::memcpy(&l, v.m_floats, sizeof l);
+	return l;
+}
+
+inline void storeLanes(btVector3& v, const Lanes& l) { std::memcpy(v.m_floats, &l, sizeof l); }
+
+/// out = m1 · m2 (btMatrix3x3::operator*'s bits). out may not be m1 or m2.
+inline void multiplyRows(const btMatrix3x3& m1, const btMatrix3x3& m2, btMatrix3x3& out)
+{
+	const Lanes r0 = lanesOf(m2[0]), r1 = lanesOf(m2[1]), r2 = lanesOf(m2[2]);
+	for (int i = 0; i < 3; ++i)
+		storeLanes(out[i], r0 * m1[i].x() + r1 * m1[i].y() + r2 * m1[i].z());
+}
+
+/// out = m1ᵀ · m2 (btMatrix3x3::transposeTimes's bits). out may not be m1 or m2.
+inline void transposeMultiplyRows(const btMatrix3x3& m1, const btMatrix3x3& m2, btMatrix3x3& out)
+{
+	const Lanes r0 = lanesOf(m2[0]), r1 = lanesOf(m2[1]), r2 = lanesOf(m2[2]);
+	for (int i = 0; i < 3; ++i)
+		storeLanes(out[i], r0 * m1[0][i] + r1 * m1[1][i] + r2 * m1[2][i]);
+}
+
+}  // namespace quathinge
+
+#endif
