@@ -12,6 +12,13 @@
 
 #include <cstring>
 
+// With double-precision Bullet a Lanes value is 32 bytes, which GCC warns changes the calling convention without AVX
+// (-Wpsabi); these helpers are inline and internal to the library, so no call crosses an ABI boundary.
+#if defined(__GNUC__) && !defined(__clang__)
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wpsabi"
+#endif
+
 namespace quathinge
 {
 typedef btScalar Lanes __attribute__((vector_size(4 * sizeof(btScalar))));
@@ -42,5 +49,9 @@ inline void transposeMultiplyRows(const btMatrix3x3& m1, const btMatrix3x3& m2, 
 }
 
 }  // namespace quathinge
+
+#if defined(__GNUC__) && !defined(__clang__)
+#pragma GCC diagnostic pop
+#endif
 
 #endif
