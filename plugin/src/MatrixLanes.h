@@ -10,7 +10,9 @@
 
 #include "LinearMath/btMatrix3x3.h"
 
+#include <cstdint>
 #include <cstring>
+#include <type_traits>
 
 // With double-precision Bullet a Lanes value is 32 bytes, which GCC warns changes the calling convention without AVX
 // (-Wpsabi); these helpers are inline and internal to the library, so no call crosses an ABI boundary.
@@ -31,6 +33,18 @@ inline Lanes lanesOf(const btVector3& v)
 }
 
 inline void storeLanes(btVector3& v, const Lanes& l) { std::memcpy(v.m_floats, &l, sizeof l); }
+
+/// Integer lanes of the same width, for bit masks.
+typedef std::conditional<sizeof(btScalar) == 4, std::int32_t, std::int64_t>::type LaneInt;
+typedef LaneInt LaneBits __attribute__((vector_size(4 * sizeof(btScalar))));
+
+/// (|x|, |y|, |z|, 0): the sign bits and the padding lane cleared (whatever the padding holds, even NaN).
+inline Lanes absXyz(const btVector3& v)
+{
+	const LaneInt magnitude = ~(LaneInt(1) << (8 * sizeof(btScalar) - 1));
+	const LaneBits mask = {magnitude, magnitude, magnitude, 0};
+	return (Lanes)((LaneBits)lanesOf(v) & mask);
+}
 
 /// out = m1 · m2 (btMatrix3x3::operator*'s bits). out may not be m1 or m2.
 inline void multiplyRows(const btMatrix3x3& m1, const btMatrix3x3& m2, btMatrix3x3& out)

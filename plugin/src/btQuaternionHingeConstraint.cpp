@@ -38,15 +38,14 @@ const btScalar kMaxBodyState = btScalar(1e15);
 bool finiteBodyState(const btRigidBody& body)
 {
 	// NaN survives a sum of absolute values, and ±∞ or anything near float's end makes it exceed the bound, so one
-	// comparison covers the transform and both velocities.
+	// comparison covers the transform and both velocities (summed three lanes at a time, MatrixLanes.h).
 	const btTransform& t = body.getCenterOfMassTransform();
-	const btVector3 sum = t.getOrigin().absolute() + t.getBasis()[0].absolute() + t.getBasis()[1].absolute() +
-						  t.getBasis()[2].absolute() + body.getLinearVelocity().absolute() +
-						  body.getAngularVelocity().absolute();
+	const Lanes sum = absXyz(t.getOrigin()) + absXyz(t.getBasis()[0]) + absXyz(t.getBasis()[1]) +
+					  absXyz(t.getBasis()[2]) + absXyz(body.getLinearVelocity()) + absXyz(body.getAngularVelocity());
 	// an inverse mass or inertia that is not finite (a body of 1e-38 kg) makes every row's effective mass 0·∞
 	const btScalar inverse = body.getInvMass() + body.getInvInertiaDiagLocal().x() + body.getInvInertiaDiagLocal().y() +
 							 body.getInvInertiaDiagLocal().z();
-	return sum.x() + sum.y() + sum.z() < kMaxBodyState && inverse < kMaxBodyState;  // false for NaN as well
+	return sum[0] + sum[1] + sum[2] < kMaxBodyState && inverse < kMaxBodyState;  // false for NaN as well
 }
 
 // Frame B's x for the pivot/axis constructors: frame A's x carried along the shortest arc from axisA to axisB (as
@@ -260,6 +259,7 @@ void btQuaternionHingeConstraint::poseAt(const btTransform& transA, const btTran
 	multiplyRows(transB.getBasis(), m_settings.frameInB.getBasis(), basisB);
 	transposeMultiplyRows(pose.basisA, basisB, relative);
 	rotationToQuaternion(relative, pose.q);
+	pose.axialKnown = false;
 }
 
 void btQuaternionHingeConstraint::initFromSettings()
@@ -272,7 +272,9 @@ void btQuaternionHingeConstraint::initFromSettings()
 	m_trackAlways = false;
 	m_framesMayHaveChanged = false;
 	m_limitSign = 0;
-	m_limitReach = 0;
+	m_limitLocked = false;
+	m_limitSpeculative = false;
+	m_limitDistance = 0;
 	m_lastTimeStep = 0;
 	m_numRows = 0;
 	m_fault = BT_QHINGE_FAULT_NONE;
@@ -565,10 +567,15 @@ void btQuaternionHingeConstraint::testLimit(const btTransform& transA, const btT
 	const btScalar sigma = userSign(m_settings.useReferenceFrameA);
 	updateMultiTurnAngle(sigma * hingeAngle(m_pose.q));
 	// reach this step: the current relative speed about the axis times the last step (unknown before the first)
-	const btVector3 axis = m_pose.basisA * axialRowDirection(m_pose.q);
-	m_limitReach = btFabs(axis.dot(m_rbB.getAngularVelocity() - m_rbA.getAngularVelocity())) * m_lastTimeStep;
-	const LimitState limit = evaluateLimit(m_settings, m_multiTurnAngle, m_limitReach);
-	m_limitSign = limit.sign;
+	m_pose.axial = m_pose.basisA * axialRowDirection(m_pose.q);
+	m_pose.axialKnown = true;  // the limit row's getInfo2 takes it from here
+	const btScalar reach =
+		btFabs(m_pose.axial.dot(m_rbB.getAngularVelocity() - m_rbA.getAngularVelocity())) * m_lastTimeStep;
+	const LimitState limit = evaluateLimit(m_settings, m_multiTurnAngle, reach);
+	m_limitSign = limit.sign;  // kept whole for the limit row (evaluated once per step)
+	m_limitLocked = limit.locked;
+	m_limitSpeculative = limit.speculative;
+	m_limitDistance = limit.distance;
 }
 
 // ---- ERP / CFM ----------------------------------------------------------------------------------------------------------
@@ -682,7 +689,7 @@ void btQuaternionHingeConstraint::computeRowCount(btConstraintInfo1* info, const
 	info->m_numConstraintRows = 0;
 	info->nub = 0;
 	m_numRows = 0;
-	validateFramesIfEdited();
+	if (m_framesMayHaveChanged) validateFramesIfEdited();
 	// A fault stands until clearFault(), even for a joint re-enabled by hand with setEnabled(true): no rows, disabled
 	// again (the stabilizer skips a faulted joint as well; the two must agree).
 	if (m_fault == BT_QHINGE_FAULT_FRAME_EDITED_INVALID || m_fault == BT_QHINGE_FAULT_NONFINITE_BODY_STATE)
@@ -890,7 +897,7 @@ void btQuaternionHingeConstraint::fillRows(btConstraintInfo2* info, const btTran
 
 	// Axis part: rows along J_α = σ R_A t (HingeAngle.h: the exact gradient of the angle within 90° of assembly).
 	const btScalar sigma = userSign(m_settings.useReferenceFrameA);
-	const btVector3 axis = sigma * (pose.basisA * axialRowDirection(pose.q));
+	const btVector3 axis = sigma * (pose.axialKnown ? pose.axial : pose.basisA * axialRowDirection(pose.q));
 	const btScalar rate = axis.dot(angVelB - angVelA);
 	const btScalar normalErp = rowErp(kAxialKind, info->erp);
 	auto emit = [&](const AxialRow& axial, bool setCfm, btScalar cfm) {
@@ -922,7 +929,11 @@ void btQuaternionHingeConstraint::fillRows(btConstraintInfo2* info, const btTran
 	// because a drive row was solved after it (a motor driven into a stop is held by the stop).
 	if (m_limitSign != 0)
 	{
-		const LimitState limit = evaluateLimit(m_settings, m_multiTurnAngle, m_limitReach);
+		LimitState limit;  // as testLimit found it in getInfo1 (or getInfo2NonVirtual)
+		limit.sign = m_limitSign;
+		limit.locked = m_limitLocked;
+		limit.speculative = m_limitSpeculative;
+		limit.distance = m_limitDistance;
 		const btScalar stopErp = (m_settings.flags & BT_QHINGE_FLAGS_ERP_STOP) ? m_settings.stopErp : normalErp;
 		emit(limitRow(m_settings, limit, rate, info->fps, stopErp), (m_settings.flags & BT_QHINGE_FLAGS_CFM_STOP) != 0,
 			 m_settings.stopCfm);

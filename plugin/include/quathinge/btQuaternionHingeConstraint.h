@@ -281,6 +281,8 @@ private:
 		btVector3 pivotA;
 		btVector3 pivotB;
 		btQuaternion q;
+		btVector3 axial;  // R_A t, the axial rows' direction before the sign σ (HingeAngle.h), once axialKnown
+		bool axialKnown;
 	};
 	void poseAt(const btTransform& transA, const btTransform& transB, Pose& pose) const;
 	void initFromSettings();
@@ -304,7 +306,9 @@ private:
 	btTransform m_checkedFrameA;   // the frames as last validated: an unchanged frame needs no check
 	btTransform m_checkedFrameB;
 	int m_limitSign;               // +1 lower stop row, −1 upper stop row, 0 none (as stock's getLimitSign)
-	btScalar m_limitReach;         // |α̇|·h at the last limit test: how far the angle can move this step
+	bool m_limitLocked;            // the rest of the last limit test (AxisRows.h's LimitState), for the limit row
+	bool m_limitSpeculative;
+	btScalar m_limitDistance;
 	btScalar m_lastTimeStep;       // h of the last getInfo2 (0 before the first)
 	int m_numRows;
 	btQuaternionHingeFault m_fault;
