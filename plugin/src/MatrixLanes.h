@@ -15,9 +15,9 @@
 #include <type_traits>
 
 // With double-precision Bullet a Lanes value is 32 bytes, which GCC warns changes the calling convention without AVX
-// (-Wpsabi); these helpers are inline and internal to the library, so no call crosses an ABI boundary.
+// (-Wpsabi), at these helpers and at every call that passes one. They are inline and this header is internal to the
+// library (plugin/src only), so no call crosses an ABI boundary: the warning is off for the files that include it.
 #if defined(__GNUC__) && !defined(__clang__)
-#pragma GCC diagnostic push
 #pragma GCC diagnostic ignored "-Wpsabi"
 #endif
 
@@ -46,6 +46,35 @@ inline Lanes absXyz(const btVector3& v)
 	return (Lanes)((LaneBits)lanesOf(v) & mask);
 }
 
+/// The first three lanes into d[0..2] (a row of the solver's arrays: its fourth entry is not the joint's to write).
+inline void storeXyz(btScalar* d, const Lanes& l)
+{
+	d[0] = l[0];
+	d[1] = l[1];
+	d[2] = l[2];
+}
+
+/// a × b (btVector3::cross's bits: lane i is the same two products subtracted).
+inline Lanes crossLanes(const Lanes& a, const Lanes& b)
+{
+	return __builtin_shufflevector(a, a, 1, 2, 0, 3) * __builtin_shufflevector(b, b, 2, 0, 1, 3) -
+		   __builtin_shufflevector(a, a, 2, 0, 1, 3) * __builtin_shufflevector(b, b, 1, 2, 0, 3);
+}
+
+/// a · b over the first three lanes (btVector3::dot's bits: x + y, then + z).
+inline btScalar dotXyz(const Lanes& a, const Lanes& b)
+{
+	const Lanes p = a * b;
+	return p[0] + p[1] + p[2];
+}
+
+/// Column `c` of m as (m[0][c], m[1][c], m[2][c], 0).
+inline Lanes columnLanes(const btMatrix3x3& m, int c)
+{
+	const Lanes l = {m[0][c], m[1][c], m[2][c], btScalar(0)};
+	return l;
+}
+
 /// out = m1 · m2 (btMatrix3x3::operator*'s bits). out may not be m1 or m2.
 inline void multiplyRows(const btMatrix3x3& m1, const btMatrix3x3& m2, btMatrix3x3& out)
 {
@@ -63,9 +92,5 @@ inline void transposeMultiplyRows(const btMatrix3x3& m1, const btMatrix3x3& m2, 
 }
 
 }  // namespace quathinge
-
-#if defined(__GNUC__) && !defined(__clang__)
-#pragma GCC diagnostic pop
-#endif
 
 #endif

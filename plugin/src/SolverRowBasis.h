@@ -28,50 +28,52 @@
 
 #include "LinearMath/btMatrix3x3.h"
 #include "LinearMath/btVector3.h"
+#include "MatrixLanes.h"
 
 namespace quathinge
 {
-/// The three point-row directions (world, orthonormal, right-handed: t = a × p, p = t × a).
+/// The three point-row directions (world, orthonormal, right-handed: t = a × p, p = t × a), as SIMD lanes
+/// (MatrixLanes.h: the same operations as btVector3's, so the same bits).
 struct PointRowBasis
 {
-	btVector3 p;  ///< radial: from the centres of mass toward the hinge axis
-	btVector3 t;  ///< tangential: a × p
-	btVector3 a;  ///< the hinge axis: joint frame A's z
+	Lanes p;  ///< radial: from the centres of mass toward the hinge axis
+	Lanes t;  ///< tangential: a × p
+	Lanes a;  ///< the hinge axis: joint frame A's z
 };
 
 /// The basis for joint frame A's world basis `basisA`, lever arms `armA`, `armB` (pivot − centre of mass, world) and
 /// inverse masses `invMassA`, `invMassB` (zero for static or kinematic bodies).
-inline PointRowBasis pointRowBasis(const btMatrix3x3& basisA, const btVector3& armA, const btVector3& armB,
-								   btScalar invMassA, btScalar invMassB)
+inline PointRowBasis pointRowBasis(const btMatrix3x3& basisA, const Lanes& armA, const Lanes& armB, btScalar invMassA,
+								   btScalar invMassB)
 {
 	// Weights as btHingeConstraint's: the lighter side's arm counts more (a static side: only the dynamic side's).
 	const btScalar invMassSum = invMassA + invMassB;
 	const btScalar weightA = invMassSum > btScalar(0) ? invMassB / invMassSum : btScalar(0.5);
 	PointRowBasis basis;
-	basis.a = btVector3(basisA[0][2], basisA[1][2], basisA[2][2]);
+	basis.a = columnLanes(basisA, 2);
 	// t = a × radial needs no projection of the arms across the axis: the cross product drops their axial parts.
-	basis.t = basis.a.cross(armB * weightA + armA * (btScalar(1) - weightA));
-	const btScalar length2 = basis.t.length2();
+	basis.t = crossLanes(basis.a, armB * weightA + armA * (btScalar(1) - weightA));
+	const btScalar length2 = dotXyz(basis.t, basis.t);
 	if (length2 > SIMD_EPSILON)
 	{
 		basis.t *= btScalar(1) / btSqrt(length2);
-		basis.p = basis.t.cross(basis.a);  // orthonormal to round-off however short the radial part was
+		basis.p = crossLanes(basis.t, basis.a);  // orthonormal to round-off however short the radial part was
 	}
 	else
 	{
 		// Pivot on the axis through the centres of mass: any direction across the axis decouples as well; frame A's x
 		// and y turn with the joint, so warm starting stays meaningful.
-		basis.p = btVector3(basisA[0][0], basisA[1][0], basisA[2][0]);
-		basis.t = btVector3(basisA[0][1], basisA[1][1], basisA[2][1]);
+		basis.p = columnLanes(basisA, 0);
+		basis.t = columnLanes(basisA, 1);
 	}
 	return basis;
 }
 
 /// The turn (c, s) of the quaternion part's rows u, v (world) that puts u' = c u + s v along p's part in their plane;
 /// (1, 0) when p has no part there.
-inline void quaternionRowTurn(const btVector3& u, const btVector3& v, const btVector3& p, btScalar& c, btScalar& s)
+inline void quaternionRowTurn(const Lanes& u, const Lanes& v, const Lanes& p, btScalar& c, btScalar& s)
 {
-	const btScalar up = u.dot(p), vp = v.dot(p);
+	const btScalar up = dotXyz(u, p), vp = dotXyz(v, p);
 	const btScalar n2 = up * up + vp * vp;
 	if (n2 > SIMD_EPSILON)
 	{

@@ -750,32 +750,6 @@ void btQuaternionHingeConstraint::getInfo2NonVirtual(btConstraintInfo2* info, co
 	fillRows(info, transA, transB, angVelA, angVelB);
 }
 
-namespace
-{
-// One row's Jacobian: J1 = (linA, angA), J2 = (linB, angB), at offset `at` of the solver's arrays (straight-line
-// stores: the entries are independent of each other, and of the joint, so nothing is re-read after a store).
-inline void writeRow(btTypedConstraint::btConstraintInfo2* info, int at, const btVector3& linB, const btVector3& angA,
-					 const btVector3& angB)
-{
-	btScalar* j1l = info->m_J1linearAxis + at;
-	btScalar* j1a = info->m_J1angularAxis + at;
-	btScalar* j2l = info->m_J2linearAxis + at;
-	btScalar* j2a = info->m_J2angularAxis + at;
-	j1l[0] = -linB.x(), j1l[1] = -linB.y(), j1l[2] = -linB.z();
-	j2l[0] = linB.x(), j2l[1] = linB.y(), j2l[2] = linB.z();
-	j1a[0] = angA.x(), j1a[1] = angA.y(), j1a[2] = angA.z();
-	j2a[0] = angB.x(), j2a[1] = angB.y(), j2a[2] = angB.z();
-}
-
-inline void writeAngularRow(btTypedConstraint::btConstraintInfo2* info, int at, const btVector3& g)
-{
-	btScalar* j1a = info->m_J1angularAxis + at;
-	btScalar* j2a = info->m_J2angularAxis + at;
-	j1a[0] = -g.x(), j1a[1] = -g.y(), j1a[2] = -g.z();
-	j2a[0] = g.x(), j2a[1] = g.y(), j2a[2] = g.z();
-}
-}  // namespace
-
 int btQuaternionHingeConstraint::fillBilateralRows(btConstraintInfo2* info, const btTransform& transA,
 												  const btTransform& transB, const Pose& pose) const
 {
@@ -795,20 +769,25 @@ int btQuaternionHingeConstraint::fillBilateralRows(btConstraintInfo2* info, cons
 	// (Q10), with e ∈ {p, t, a} (SolverRowBasis.h: a rotation of the row space that Gauss–Seidel converges on as fast
 	// as on stock's rows; computePositionRows keeps world x, y, z). The solver hands rows in zeroed; every entry of a
 	// row is written all the same (straight-line stores are cheaper than skipping zeros).
-	const btVector3 rA = pose.pivotA - transA.getOrigin();
-	const btVector3 rB = pose.pivotB - transB.getOrigin();
+	// (Vectors in SIMD lanes, MatrixLanes.h: btVector3's operations lane by lane, the same bits.)
+	const Lanes pivotA = lanesOf(pose.pivotA), pivotB = lanesOf(pose.pivotB);
+	const Lanes rA = pivotA - lanesOf(transA.getOrigin());
+	const Lanes rB = pivotB - lanesOf(transB.getOrigin());
 	const PointRowBasis basis = pointRowBasis(pose.basisA, rA, rB, m_rbA.getInvMass(), m_rbB.getInvMass());
 	int row = 0;
 	if (!angularOnly)
 	{
-		const btVector3 c = pose.pivotB - pose.pivotA;
-		const btVector3* directions[3] = {&basis.p, &basis.t, &basis.a};
+		const Lanes c = pivotB - pivotA;
+		const Lanes directions[3] = {basis.p, basis.t, basis.a};
 		for (int i = 0; i < 3; ++i, ++row)
 		{
-			const btVector3& e = *directions[i];
+			const Lanes& e = directions[i];
 			const int at = row * skip;
-			writeRow(info, at, e, e.cross(rA), rB.cross(e));
-			info->m_constraintError[at] = -errorScale(kLinearKind + i) * e.dot(c);
+			storeXyz(info->m_J1linearAxis + at, -e);
+			storeXyz(info->m_J2linearAxis + at, e);
+			storeXyz(info->m_J1angularAxis + at, crossLanes(e, rA));
+			storeXyz(info->m_J2angularAxis + at, crossLanes(rB, e));
+			info->m_constraintError[at] = -errorScale(kLinearKind + i) * dotXyz(e, c);
 			rowCfmOverride(kLinearKind + i, at);
 		}
 	}
@@ -817,11 +796,15 @@ int btQuaternionHingeConstraint::fillBilateralRows(btConstraintInfo2* info, cons
 	// solver turned within the part's plane so the first row lies along p (SolverRowBasis.h).
 	AngularRows angular;
 	computeAngularRows(pose.basisA, pose.q, angular);
+	const Lanes rowU = lanesOf(angular.rowU), rowV = lanesOf(angular.rowV);
 	btScalar cosPsi, sinPsi;
-	quaternionRowTurn(angular.rowU, angular.rowV, basis.p, cosPsi, sinPsi);
+	quaternionRowTurn(rowU, rowV, basis.p, cosPsi, sinPsi);
 	const int atU = row * skip, atV = atU + skip;
-	writeAngularRow(info, atU, cosPsi * angular.rowU + sinPsi * angular.rowV);
-	writeAngularRow(info, atV, cosPsi * angular.rowV - sinPsi * angular.rowU);
+	const Lanes turnedU = rowU * cosPsi + rowV * sinPsi, turnedV = rowV * cosPsi - rowU * sinPsi;
+	storeXyz(info->m_J1angularAxis + atU, -turnedU);
+	storeXyz(info->m_J2angularAxis + atU, turnedU);
+	storeXyz(info->m_J1angularAxis + atV, -turnedV);
+	storeXyz(info->m_J2angularAxis + atV, turnedV);
 	info->m_constraintError[atU] = -errorScale(kAngularKind) * (cosPsi * angular.errorU + sinPsi * angular.errorV);
 	info->m_constraintError[atV] = -errorScale(kAngularKind + 1) * (cosPsi * angular.errorV - sinPsi * angular.errorU);
 	rowCfmOverride(kAngularKind, atU);
