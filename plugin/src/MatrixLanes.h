@@ -83,12 +83,28 @@ inline void multiplyRows(const btMatrix3x3& m1, const btMatrix3x3& m2, btMatrix3
 		storeLanes(out[i], r0 * m1[i].x() + r1 * m1[i].y() + r2 * m1[i].z());
 }
 
-/// out = m1ᵀ · m2 (btMatrix3x3::transposeTimes's bits). out may not be m1 or m2.
-inline void transposeMultiplyRows(const btMatrix3x3& m1, const btMatrix3x3& m2, btMatrix3x3& out)
+/// out = (m1 · m2)ᵀ for m1 given by its columns c0, c1, c2: row c of out is column c of m1 · m2,
+/// Σ_k m1[·][k] m2[k][c] lane by lane (operator*'s bits, transposed). out may not be m2.
+inline void productTransposedRows(const Lanes& c0, const Lanes& c1, const Lanes& c2, const btMatrix3x3& m2,
+								  btMatrix3x3& out)
 {
-	const Lanes r0 = lanesOf(m2[0]), r1 = lanesOf(m2[1]), r2 = lanesOf(m2[2]);
-	for (int i = 0; i < 3; ++i)
-		storeLanes(out[i], r0 * m1[0][i] + r1 * m1[1][i] + r2 * m1[2][i]);
+	for (int c = 0; c < 3; ++c)
+		storeLanes(out[c], c0 * m2[0][c] + c1 * m2[1][c] + c2 * m2[2][c]);
+}
+
+/// t(x) for the transform with basis columns c0, c1, c2 and origin `origin`: btTransform::operator()'s bits (each
+/// row's dot product with x, then the origin added).
+inline Lanes transformedLanes(const Lanes& c0, const Lanes& c1, const Lanes& c2, const btVector3& origin,
+							  const btVector3& x)
+{
+	return c0 * x.x() + c1 * x.y() + c2 * x.z() + lanesOf(origin);
+}
+
+/// R·v for R given by its transpose `transposed` (rows: R's columns): (R v)_i = R[i][0] v_x + R[i][1] v_y + R[i][2] v_z
+/// in that order, btMatrix3x3 * btVector3's bits.
+inline Lanes timesTransposed(const btMatrix3x3& transposed, const btVector3& v)
+{
+	return lanesOf(transposed[0]) * v.x() + lanesOf(transposed[1]) * v.y() + lanesOf(transposed[2]) * v.z();
 }
 
 }  // namespace quathinge

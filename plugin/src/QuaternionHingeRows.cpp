@@ -2,6 +2,7 @@
 #include "QuaternionHingeRows.h"
 
 #include "LinearMath/btMatrix3x3.h"
+#include "MatrixLanes.h"
 
 namespace quathinge
 {
@@ -84,6 +85,15 @@ void computeAngularRows(const btMatrix3x3& frameAInWorld, const btQuaternion& q,
 	// (Q7) Ċ = g·(ω_B − ω_A) with g = R_A (…): rows in world coordinates.
 	out.rowU = frameAInWorld * gu;
 	out.rowV = frameAInWorld * gv;
+}
+
+void computeAngularRowsFromAxes(const btMatrix3x3& axesA, const btQuaternion& q, AngularRows& out)
+{
+	btVector3 gu, gv;
+	rowsInFrameA(q, gu, gv, out.errorU, out.errorV, out.logForm);
+	// (Q7) g = R_A (…), R_A's columns being frame A's axes (MatrixLanes.h: the products of btMatrix3x3 * btVector3).
+	storeLanes(out.rowU, timesTransposed(axesA, gu));
+	storeLanes(out.rowV, timesTransposed(axesA, gv));
 }
 
 void computeAngularRows(const btQuaternion& a, const btQuaternion& b, AngularRows& out)

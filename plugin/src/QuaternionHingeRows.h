@@ -55,6 +55,9 @@ void computeAngularRows(const btQuaternion& a, const btQuaternion& b, AngularRow
 /// matrix-to-quaternion conversion per joint).
 void computeAngularRows(const btMatrix3x3& frameAInWorld, const btQuaternion& q, AngularRows& out);
 
+/// The same from frame A's axes in world (the rows of R_Aᵀ, as the joint keeps them): the same bits.
+void computeAngularRowsFromAxes(const btMatrix3x3& axesA, const btQuaternion& q, AngularRows& out);
+
 /// Swing angle φ ∈ [0, π] between the two hinge axes (the misalignment the two rows remove).
 btScalar swingAngle(const btQuaternion& q);
 

@@ -41,16 +41,16 @@ struct PointRowBasis
 	Lanes a;  ///< the hinge axis: joint frame A's z
 };
 
-/// The basis for joint frame A's world basis `basisA`, lever arms `armA`, `armB` (pivot − centre of mass, world) and
+/// The basis for joint frame A's axes in world `axesA` (the rows of R_Aᵀ), lever arms `armA`, `armB` (pivot − centre of mass, world) and
 /// inverse masses `invMassA`, `invMassB` (zero for static or kinematic bodies).
-inline PointRowBasis pointRowBasis(const btMatrix3x3& basisA, const Lanes& armA, const Lanes& armB, btScalar invMassA,
+inline PointRowBasis pointRowBasis(const btMatrix3x3& axesA, const Lanes& armA, const Lanes& armB, btScalar invMassA,
 								   btScalar invMassB)
 {
 	// Weights as btHingeConstraint's: the lighter side's arm counts more (a static side: only the dynamic side's).
 	const btScalar invMassSum = invMassA + invMassB;
 	const btScalar weightA = invMassSum > btScalar(0) ? invMassB / invMassSum : btScalar(0.5);
 	PointRowBasis basis;
-	basis.a = columnLanes(basisA, 2);
+	basis.a = lanesOf(axesA[2]);
 	// t = a × radial needs no projection of the arms across the axis: the cross product drops their axial parts.
 	basis.t = crossLanes(basis.a, armB * weightA + armA * (btScalar(1) - weightA));
 	const btScalar length2 = dotXyz(basis.t, basis.t);
@@ -63,8 +63,8 @@ inline PointRowBasis pointRowBasis(const btMatrix3x3& basisA, const Lanes& armA,
 	{
 		// Pivot on the axis through the centres of mass: any direction across the axis decouples as well; frame A's x
 		// and y turn with the joint, so warm starting stays meaningful.
-		basis.p = columnLanes(basisA, 0);
-		basis.t = columnLanes(basisA, 1);
+		basis.p = lanesOf(axesA[0]);
+		basis.t = lanesOf(axesA[1]);
 	}
 	return basis;
 }

@@ -251,13 +251,17 @@ inline void rotationToQuaternion(const btMatrix3x3& m, btQuaternion& q)
 void btQuaternionHingeConstraint::poseAt(const btTransform& transA, const btTransform& transB, Pose& pose) const
 {
 	// One matrix-to-quaternion conversion: q from R_Aᵀ R_B of the joint frames (the products with btTransform's bits,
-	// MatrixLanes.h).
-	multiplyRows(transA.getBasis(), m_settings.frameInA.getBasis(), pose.basisA);
-	pose.pivotA = transA(m_settings.frameInA.getOrigin());
-	pose.pivotB = transB(m_settings.frameInB.getOrigin());
+	// MatrixLanes.h). Body A's basis by columns serves both R_Aᵀ and the pivot, body B's the pivot.
+	const Lanes a0 = columnLanes(transA.getBasis(), 0), a1 = columnLanes(transA.getBasis(), 1),
+				a2 = columnLanes(transA.getBasis(), 2);
+	productTransposedRows(a0, a1, a2, m_settings.frameInA.getBasis(), pose.axesA);
+	storeLanes(pose.pivotA, transformedLanes(a0, a1, a2, transA.getOrigin(), m_settings.frameInA.getOrigin()));
+	storeLanes(pose.pivotB, transformedLanes(columnLanes(transB.getBasis(), 0), columnLanes(transB.getBasis(), 1),
+											 columnLanes(transB.getBasis(), 2), transB.getOrigin(),
+											 m_settings.frameInB.getOrigin()));
 	btMatrix3x3 basisB, relative;
 	multiplyRows(transB.getBasis(), m_settings.frameInB.getBasis(), basisB);
-	transposeMultiplyRows(pose.basisA, basisB, relative);
+	multiplyRows(pose.axesA, basisB, relative);  // R_Aᵀ R_B
 	rotationToQuaternion(relative, pose.q);
 	pose.axialKnown = false;
 }
@@ -567,7 +571,7 @@ void btQuaternionHingeConstraint::testLimit(const btTransform& transA, const btT
 	const btScalar sigma = userSign(m_settings.useReferenceFrameA);
 	updateMultiTurnAngle(sigma * hingeAngle(m_pose.q));
 	// reach this step: the current relative speed about the axis times the last step (unknown before the first)
-	m_pose.axial = m_pose.basisA * axialRowDirection(m_pose.q);
+	storeLanes(m_pose.axial, timesTransposed(m_pose.axesA, axialRowDirection(m_pose.q)));
 	m_pose.axialKnown = true;  // the limit row's getInfo2 takes it from here
 	const btScalar reach =
 		btFabs(m_pose.axial.dot(m_rbB.getAngularVelocity() - m_rbA.getAngularVelocity())) * m_lastTimeStep;
@@ -773,7 +777,7 @@ int btQuaternionHingeConstraint::fillBilateralRows(btConstraintInfo2* info, cons
 	const Lanes pivotA = lanesOf(pose.pivotA), pivotB = lanesOf(pose.pivotB);
 	const Lanes rA = pivotA - lanesOf(transA.getOrigin());
 	const Lanes rB = pivotB - lanesOf(transB.getOrigin());
-	const PointRowBasis basis = pointRowBasis(pose.basisA, rA, rB, m_rbA.getInvMass(), m_rbB.getInvMass());
+	const PointRowBasis basis = pointRowBasis(pose.axesA, rA, rB, m_rbA.getInvMass(), m_rbB.getInvMass());
 	int row = 0;
 	if (!angularOnly)
 	{
@@ -795,7 +799,7 @@ int btQuaternionHingeConstraint::fillBilateralRows(btConstraintInfo2* info, cons
 	// Quaternion part (Q7, Q9, Q10; the log form beyond 90°, Q12): body A −g, body B +g, error −erp·fps·C; for the
 	// solver turned within the part's plane so the first row lies along p (SolverRowBasis.h).
 	AngularRows angular;
-	computeAngularRows(pose.basisA, pose.q, angular);
+	computeAngularRowsFromAxes(pose.axesA, pose.q, angular);
 	const Lanes rowU = lanesOf(angular.rowU), rowV = lanesOf(angular.rowV);
 	btScalar cosPsi, sinPsi;
 	quaternionRowTurn(rowU, rowV, basis.p, cosPsi, sinPsi);
@@ -842,7 +846,7 @@ int btQuaternionHingeConstraint::computePositionRows(const btTransform& transA, 
 		}
 	}
 	AngularRows angular;
-	computeAngularRows(pose.basisA, pose.q, angular);
+	computeAngularRowsFromAxes(pose.axesA, pose.q, angular);
 	const btVector3* g[2] = {&angular.rowU, &angular.rowV};
 	const btScalar value[2] = {angular.errorU, angular.errorV};
 	for (int r = 0; r < 2; ++r, ++rows)
@@ -880,7 +884,9 @@ void btQuaternionHingeConstraint::fillRows(btConstraintInfo2* info, const btTran
 
 	// Axis part: rows along J_α = σ R_A t (HingeAngle.h: the exact gradient of the angle within 90° of assembly).
 	const btScalar sigma = userSign(m_settings.useReferenceFrameA);
-	const btVector3 axis = sigma * (pose.axialKnown ? pose.axial : pose.basisA * axialRowDirection(pose.q));
+	btVector3 axis = pose.axial;
+	if (!pose.axialKnown) storeLanes(axis, timesTransposed(pose.axesA, axialRowDirection(pose.q)));
+	axis = sigma * axis;
 	const btScalar rate = axis.dot(angVelB - angVelA);
 	const btScalar normalErp = rowErp(kAxialKind, info->erp);
 	auto emit = [&](const AxialRow& axial, bool setCfm, btScalar cfm) {

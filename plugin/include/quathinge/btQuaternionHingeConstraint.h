@@ -273,11 +273,12 @@ public:
 	void debugDraw(btIDebugDraw * drawer, btScalar size = btScalar(0.3)) const;
 
 private:
-	/// What the rows need of the joint frames in world for one pair of body transforms: frame A's basis R_A, both
-	/// pivots, and q = a* ⊗ b (Q2). Frame B's basis only enters q, so it is not kept.
+	/// What the rows need of the joint frames in world for one pair of body transforms: frame A's basis R_A (kept as
+	/// R_Aᵀ, whose rows are frame A's axes x̂, ŷ, ẑ in world: every use takes columns of R_A), both pivots, and
+	/// q = a* ⊗ b (Q2). Frame B's basis only enters q, so it is not kept.
 	struct Pose
 	{
-		btMatrix3x3 basisA;
+		btMatrix3x3 axesA;
 		btVector3 pivotA;
 		btVector3 pivotB;
 		btQuaternion q;
