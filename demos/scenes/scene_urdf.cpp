@@ -31,7 +31,7 @@ namespace
 btVector3 boxFromInertia(double mass, const btVector3& moments)
 {
 	const double kMinHalf = 0.01;  // m
-	btVector3 h;
+	btVector3 h(0, 0, 0);  // all four floats set (GCC -O3 warns of the unused fourth otherwise)
 	for (int k = 0; k < 3; ++k)
 	{
 		const double sq = 3 / (2 * mass) * (double(moments[(k + 1) % 3]) + double(moments[(k + 2) % 3]) - double(moments[k]));
