@@ -735,6 +735,12 @@ TEST(Stabilizer, InvalidSettingsAreRefused)
 	bad = btQuaternionHingeStabilizerSettings();
 	bad.minimumProgress = 0;
 	EXPECT_THROW(stabilizer.setSettings(bad), std::invalid_argument);
+	for (btScalar weight : {btScalar(0.5), btScalar(2e6), btScalar(NAN)})
+	{
+		bad = btQuaternionHingeStabilizerSettings();
+		bad.positionRotationWeight = weight;
+		EXPECT_THROW(stabilizer.setSettings(bad), std::invalid_argument) << weight;
+	}
 	EXPECT_EQ(stabilizer.getSettings().maxIterations, btQuaternionHingeStabilizerSettings().maxIterations);
 	StabilizerScene scene;
 	EXPECT_THROW(stabilizer.stabilize(&scene.world(), 0), std::invalid_argument);
@@ -907,4 +913,98 @@ TEST(Stabilizer, IslandsWithAndWithoutLimitsConvergeInOneWorld)
 	EXPECT_LE(worstExcess, btScalar(kResidualTolerance));  // rad past a stop
 	EXPECT_LE(worstSeparation, kSeparationTolerance);
 	EXPECT_LE(worstMisalignment, kMisalignmentToleranceDeg);
+}
+
+TEST(Stabilizer, RotationWeightHoldsATenThousandToOneLoad)
+{
+	// The demo's heavy10000: a planar chain of five 1 kg links 0.5 m long, hinged to the world, carrying a 10000 kg
+	// cube (0.2 m), released horizontally. In the mass metric (weight 1) the cheapest first-order fix of a stretched
+	// joint is to swing the light links, which the second-order terms undo: Newton falls short step after step and
+	// the chain tears apart. With the default rotation weight the correction moves the links along instead.
+	auto run = [](btScalar weight, double& separation, double& misalignment, double& newtonPerStep) {
+		StabilizerScene scene;
+		const btScalar length = btScalar(0.5);
+		std::vector<btRigidBody*> links;
+		for (int i = 0; i < 5; ++i)
+		{
+			btRigidBody* link = scene.box(btVector3(length / 2, btScalar(0.05), btScalar(0.05)), 1,
+										  btVector3(length * (btScalar(i) + btScalar(0.5)), 0, 0));
+			if (i == 0) scene.hingeToWorld(*link, btVector3(-length / 2, 0, 0), btVector3(0, 0, 1));
+			else
+				scene.hinge(*links.back(), *link, btVector3(length / 2, 0, 0), btVector3(-length / 2, 0, 0),
+							btVector3(0, 0, 1), btVector3(0, 0, 1));
+			links.push_back(link);
+		}
+		btRigidBody* load = scene.box(btVector3(btScalar(0.1), btScalar(0.1), btScalar(0.1)), 10000,
+									  btVector3(btScalar(2.6), 0, 0));
+		scene.hinge(*links.back(), *load, btVector3(length / 2, 0, 0), btVector3(btScalar(-0.1), 0, 0),
+					btVector3(0, 0, 1), btVector3(0, 0, 1));
+		btQuaternionHingeStabilizerSettings settings;
+		settings.positionRotationWeight = weight;
+		btQuaternionHingeStabilizer stabilizer(settings);
+		scene.addAction(&stabilizer);
+		separation = misalignment = 0;
+		double newton = 0;
+		const int steps = 300;  // 5 s at 60 Hz
+		for (int i = 0; i < steps; ++i)
+		{
+			scene.world().stepSimulation(kTimeStep, 0);
+			newton += stabilizer.getLastStats().iterations;
+			double s, m;
+			scene.jointErrors(s, m);
+			separation = std::max(separation, s);
+			misalignment = std::max(misalignment, m);
+		}
+		newtonPerStep = newton / steps;
+		return scene.allFinite();
+	};
+	double sepDefault, misDefault, newtonDefault, sepMass, misMass, newtonMass;
+	ASSERT_TRUE(run(btQuaternionHingeStabilizerSettings().positionRotationWeight, sepDefault, misDefault, newtonDefault));
+	const bool massFinite = run(1, sepMass, misMass, newtonMass);
+	std::cout << "[ figures  ] 1:10000 load on 5 links, 5 s: rotation weight 1: max separation " << sepMass
+			  << " m, misalignment " << misMass << " deg, " << newtonMass << " Newton iterations/step; default weight: "
+			  << sepDefault << " m, " << misDefault << " deg, " << newtonDefault << std::endl;
+	EXPECT_LE(sepDefault, kHeavySeparationTolerance);
+	EXPECT_LE(misDefault, kMisalignmentToleranceDeg);
+	EXPECT_TRUE(!massFinite || sepMass > 100 * kHeavySeparationTolerance);  // the weight is what holds it
+}
+
+TEST(Stabilizer, RotationWeightKeepsNewtonShortOnALongChain)
+{
+	// A hanging 300-link chain: Newton iterations per step (the projection's cost) with the default rotation weight
+	// against the mass metric; both end on the joints.
+	auto run = [](btScalar weight, double& separation, double& newtonPerStep, double& factorizationsPerStep) {
+		StabilizerScene scene;
+		scene.chain(300);
+		btQuaternionHingeStabilizerSettings settings;
+		settings.positionRotationWeight = weight;
+		btQuaternionHingeStabilizer stabilizer(settings);
+		scene.addAction(&stabilizer);
+		double newton = 0, factorizations = 0, misalignment;
+		const int steps = 120;
+		separation = 0;
+		for (int i = 0; i < steps; ++i)
+		{
+			scene.world().stepSimulation(kTimeStep, 0);
+			newton += stabilizer.getLastStats().iterations;
+			factorizations += stabilizer.getLastStats().factorizations;
+			double s;
+			scene.jointErrors(s, misalignment);
+			separation = std::max(separation, s);
+		}
+		newtonPerStep = newton / steps;
+		factorizationsPerStep = factorizations / steps;
+		return scene.allFinite();
+	};
+	double sepDefault, newtonDefault, factDefault, sepMass, newtonMass, factMass;
+	ASSERT_TRUE(run(btQuaternionHingeStabilizerSettings().positionRotationWeight, sepDefault, newtonDefault, factDefault));
+	ASSERT_TRUE(run(1, sepMass, newtonMass, factMass));
+	std::cout << "[ figures  ] 300-link chain, 2 s: Newton iterations/step " << newtonMass << " (weight 1) -> "
+			  << newtonDefault << " (default), factorizations/step " << factMass << " -> " << factDefault
+			  << "; max separation " << sepMass << " m -> " << sepDefault << " m" << std::endl;
+	// m: the rounding floor of a pivot 150 m from the origin (4ε·150 m; the stabilizer's own convergence test)
+	const double floor = std::max(kSeparationTolerance, 4 * double(SIMD_EPSILON) * 150);
+	EXPECT_LE(sepDefault, floor);
+	EXPECT_LE(sepMass, floor);
+	EXPECT_LT(newtonDefault, newtonMass);
 }

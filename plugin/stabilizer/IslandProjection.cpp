@@ -5,6 +5,10 @@
 //   (Q14) velocities: K λ = −J v at the projected positions,  v ← v + M⁻¹ Jᵀ λ, so that J v = 0.
 // J = ∂C/∂(v_A, ω_A, v_B, ω_B) from btQuaternionHingeConstraint::computePositionRows (world frame): the same matrix
 // maps a small displacement (Δx, Δθ) to ΔC, which is what Newton needs.
+// Metric: Q13 uses M with every inertia multiplied by the rotation weight w (settings.rotationWeight, 30 by default):
+// a move Δx enters the point rows linearly, a turn Δθ through R(Δθ)·r, whose second-order term makes a step that
+// swings light links (the mass metric's cheapest first-order fix on a long or heavily loaded chain) fall short.
+// Q14 always uses M, so with w ≠ 1 the velocities get a factorization of their own.
 //
 // Factorizations per step. K depends on the positions, and a chain's K is ill-conditioned (a stale K gains a factor
 // of about cond(K)·(move) per solve), so a factorization is reused only while the bodies have moved less than
@@ -97,9 +101,11 @@ btScalar maxAbs(const btVector3& v) { return btMax(btFabs(v.x()), btMax(btFabs(v
 // M⁻¹ of a body in double: m⁻¹ times the linear factor, and S R diag(I_local⁻¹) Rᵀ S (S the angular factor, R the
 // body's basis) formed here rather than taken from getInvInertiaTensorWorld: that float product is not exactly
 // symmetric, and its 1e-7 asymmetry makes a redundant K (closed loops) indefinite far above the regularization.
-// With the island's stiff metric on (see projectIsland), the position correction uses (M + M_ref)⁻¹ instead: every
-// body made as heavy as the island's heaviest (m_ref, I_ref), so a correction no longer prefers swinging light bodies
-// a long way (m⁻¹ → m⁻¹/(1 + m⁻¹ m_ref), the same per inertia axis; an infinite mass stays infinite).
+// The position correction's metric has every inertia multiplied by the rotation weight w (island.rotationWeight;
+// 1 in the velocity stage): I⁻¹ → I⁻¹/w. With the island's stiff metric on (see projectIsland), it uses
+// (M + M_ref)⁻¹ as well: every body made as heavy as the island's heaviest (m_ref, I_ref), so a correction no longer
+// prefers swinging light bodies a long way (m⁻¹ → m⁻¹/(1 + m⁻¹ m_ref), the same per inertia axis; an infinite mass
+// stays infinite).
 void loadInverseMass(IslandBody& b, const Island& island)
 {
 	const btRigidBody& body = *b.rigid;
@@ -114,7 +120,7 @@ void loadInverseMass(IslandBody& b, const Island& island)
 	for (int i = 0; i < 3; ++i)
 	{
 		b.invMass[i] = invMass * body.getLinearFactor()[i];
-		invInertiaLocal[i] = invLocal[i] / (1 + invLocal[i] * inertiaRef);
+		invInertiaLocal[i] = invLocal[i] / ((1 + invLocal[i] * inertiaRef) * island.rotationWeight);
 		for (int j = 0; j < 3; ++j) sr(i, j) = double(af[i]) * double(basis[i][j]);
 	}
 	b.invInertia.noalias() = sr * invInertiaLocal.asDiagonal() * sr.transpose();
@@ -475,6 +481,7 @@ ProjectionResult projectBlocks(BlockIsland<R>& island, const ProjectionSettings&
 {
 	ProjectionResult result;
 	island.stiffMetric = false;
+	island.rotationWeight = settings.positions ? settings.rotationWeight : 1;
 	findReferenceMass(island);
 	loadInverseMasses(island);
 	for (JointSlot& js : island.joints)
@@ -500,6 +507,8 @@ ProjectionResult projectBlocks(BlockIsland<R>& island, const ProjectionSettings&
 		++result.metricSwitches;
 		return true;
 	};
+	// The position stage works in M itself (its factorization can serve the velocities too).
+	auto positionMetricIsM = [&]() { return !island.stiffMetric && island.rotationWeight == 1; };
 	auto anyLimitTouched = [&]() {
 		for (const JointSlot& js : island.joints)
 			if (js.limitTouched != 0) return true;
@@ -531,9 +540,9 @@ ProjectionResult projectBlocks(BlockIsland<R>& island, const ProjectionSettings&
 				// After the first Newton step the bodies only move by the small rest of the correction: project the
 				// velocities now, with this factorization, and only touch them up at the final positions below
 				// (one factorization fewer than projecting them there from scratch). Not with a limit row in play:
-				// its velocity rule would change K's rows.
+				// its velocity rule would change K's rows; not in another metric than M.
 				if (settings.velocities && !velocitiesProjected && result.iterations > 0 && !anyLimitTouched() &&
-					!island.stiffMetric)
+					positionMetricIsM())
 					projectVelocitiesExactly();
 			}
 			else
@@ -577,10 +586,11 @@ ProjectionResult projectBlocks(BlockIsland<R>& island, const ProjectionSettings&
 			}
 		}
 	}
-	if (island.stiffMetric)
+	if (!positionMetricIsM())
 	{
 		// Back to M for the velocities (Q14 must conserve momentum): the factorization is of the other metric.
 		island.stiffMetric = false;
+		island.rotationWeight = 1;
 		loadInverseMasses(island);
 		factorAge = SIMD_INFINITY;
 	}
@@ -594,16 +604,19 @@ ProjectionResult projectBlocks(BlockIsland<R>& island, const ProjectionSettings&
 	if (!velocitiesProjected) result.velocityResidualBefore = vres.max;
 	result.velocityResidualAfter = vres.max;
 	// J v = 0 at the final positions: chord solves while the factorization is recent, or to touch up velocities
-	// already projected a small move ago; else (or when they stall) a fresh factorization and one exact solve.
-	bool chordStalled = false;
+	// already projected a small move ago; else (or when they stall) a fresh factorization. A solve with a fresh
+	// factorization is exact up to the regularization (a relative ε·cond(K) of J v, ~1e-6 on a chain of ten in
+	// double), which the next solve with the same factors removes (iterative refinement: the positions do not move).
+	bool chordStalled = false, factorizedHere = false;
 	for (int solve = 0; solve < kMaxVelocitySolves && vres.normalized > 1; ++solve)
 	{
-		// The last solve allowed is an exact one.
+		// The last solve allowed uses a fresh factorization if none was made here.
 		const bool factorNow = chordStalled || factorAge > (velocitiesProjected ? kTouchUpAge : kChordAge) ||
-							   vres.limitsChanged || solve == kMaxVelocitySolves - 1;
+							   vres.limitsChanged || (solve == kMaxVelocitySolves - 1 && !factorizedHere);
 		if (factorNow)
 		{
 			if (!factorize()) break;
+			factorizedHere = true;
 		}
 		else
 			computeDirections(island);
@@ -612,8 +625,8 @@ ProjectionResult projectBlocks(BlockIsland<R>& island, const ProjectionSettings&
 		const btScalar previous = vres.normalized;
 		vres = evaluateVelocities(island, false, settings.timeStep);
 		result.velocityResidualAfter = vres.max;
-		if (factorNow) break;  // an exact projection: what is left is rounding
 		chordStalled = vres.normalized > kVelocityChordProgress * previous;
+		if (factorNow && chordStalled) break;  // a fresh factorization that gains little: what is left is rounding
 	}
 	return result;
 }

@@ -133,6 +133,8 @@ struct Island
 	std::unique_ptr<SparseLDLT> sparse;
 	// The position correction's metric for the rest of a step: M, or M + M_ref (IslandProjection.cpp, "stiff").
 	bool stiffMetric = false;
+	// The position correction's inertia factor (1: M's inertia; the velocities always use 1).
+	double rotationWeight = 1;
 	double referenceMass = 0;     // kg: the heaviest body's mass
 	double referenceInertia = 0;  // kg·m²: the largest principal inertia of any body
 	// conserveEnergy (EnergyProjection.cpp): the energy the island had when first projected (J).
@@ -164,6 +166,7 @@ struct ProjectionSettings
 	bool positions;
 	bool velocities;
 	double regularization;
+	double rotationWeight;  // the position metric's inertia factor (btQuaternionHingeStabilizerSettings)
 };
 struct ProjectionResult
 {

@@ -43,6 +43,8 @@ void checkSettings(const char* fn, const btQuaternionHingeStabilizerSettings& s)
 	// 1e-2: beyond it the regularization visibly slows Newton on well-posed islands (a 1% relative perturbation).
 	if (!(s.regularization >= 0 && s.regularization <= btScalar(1e-2)))
 		fail(fn, "settings.regularization", "must be in [0, 1e-2]", s.regularization);
+	if (!(s.positionRotationWeight >= 1 && s.positionRotationWeight <= btScalar(1e6)))
+		fail(fn, "settings.positionRotationWeight", "must be in [1, 1e6]", s.positionRotationWeight);
 	if (s.solver != BT_QHSTAB_SOLVER_AUTO && s.solver != BT_QHSTAB_SOLVER_SPARSE_LDLT)
 		fail(fn, "settings.solver", "is not a btQuaternionHingeStabilizerSolver", double(s.solver));
 }
@@ -108,6 +110,7 @@ const btQuaternionHingeStabilizerStats& btQuaternionHingeStabilizer::stabilize(b
 	settings.positions = m_settings.projectPositions;
 	settings.velocities = m_settings.projectVelocities;
 	settings.regularization = m_settings.regularization;
+	settings.rotationWeight = m_settings.positionRotationWeight;
 	for (const auto& islandPtr : impl.islands)
 	{
 		Island& island = *islandPtr;
