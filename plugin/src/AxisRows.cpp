@@ -5,37 +5,6 @@
 
 namespace quathinge
 {
-LimitState evaluateLimit(const btQuaternionHingeSettings& s, btScalar angle, btScalar reach)
-{
-	LimitState state;
-	if (!s.hasLimit) return state;
-	if (s.lowerLimit == s.upperLimit)
-	{
-		state.sign = 1;
-		state.locked = true;
-		state.distance = angle - s.lowerLimit;
-		return state;
-	}
-	const btScalar halfRange = btScalar(0.5) * (s.upperLimit - s.lowerLimit);
-	// speculative margin: the outer (1 − softness) of the half range; none for an unbounded side
-	const btScalar margin =
-		(std::isfinite(halfRange) ? (btScalar(1) - s.limitSoftness) * halfRange : btScalar(0)) + reach;
-	const btScalar toLower = angle - s.lowerLimit;
-	const btScalar toUpper = s.upperLimit - angle;
-	if (toLower <= margin && toLower <= toUpper)
-	{
-		state.sign = 1;
-		state.distance = toLower;
-	}
-	else if (toUpper <= margin)
-	{
-		state.sign = -1;
-		state.distance = toUpper;
-	}
-	state.speculative = state.sign != 0 && state.distance > 0;
-	return state;
-}
-
 AxialRow limitRow(const btQuaternionHingeSettings& s, const LimitState& limit, btScalar rate, btScalar fps,
 				  btScalar stopErp)
 {

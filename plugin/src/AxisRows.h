@@ -19,6 +19,8 @@
 
 #include "quathinge/btQuaternionHingeConstraint.h"
 
+#include <cmath>
+
 namespace quathinge
 {
 /// Which stop (if any) needs a row at angle α.
@@ -30,8 +32,39 @@ struct LimitState
 	btScalar distance = 0;     ///< α − low (lower) or high − α (upper); negative when past the stop
 };
 /// reach: how far the angle can move toward a stop within this step (|α̇|·h); the speculative row switches on once a
-/// stop is within the softness margin plus the reach, so a fast joint meets its stop instead of passing it.
-LimitState evaluateLimit(const btQuaternionHingeSettings& s, btScalar angle, btScalar reach);
+/// stop is within the softness margin plus the reach, so a fast joint meets its stop instead of passing it. Inline:
+/// asked at every step with a limit.
+inline LimitState evaluateLimit(const btQuaternionHingeSettings& s, btScalar angle, btScalar reach)
+{
+	LimitState state;
+	if (!s.hasLimit) return state;
+	if (s.lowerLimit == s.upperLimit)
+	{
+		state.sign = 1;
+		state.locked = true;
+		state.distance = angle - s.lowerLimit;
+		return state;
+	}
+	const btScalar halfRange = btScalar(0.5) * (s.upperLimit - s.lowerLimit);
+	// speculative margin: the outer (1 − softness) of the half range; none for an unbounded side
+	const btScalar margin =
+		(std::isfinite(halfRange) ? (btScalar(1) - s.limitSoftness) * halfRange : btScalar(0)) + reach;
+	const btScalar toLower = angle - s.lowerLimit;
+	const btScalar toUpper = s.upperLimit - angle;
+	if (toLower <= margin && toLower <= toUpper)
+	{
+		state.sign = 1;
+		state.distance = toLower;
+	}
+	else if (toUpper <= margin)
+	{
+		state.sign = -1;
+		state.distance = toUpper;
+	}
+	state.speculative = state.sign != 0 && state.distance > 0;
+	return state;
+}
+
 
 /// One axial row's right-hand side and impulse bounds.
 struct AxialRow

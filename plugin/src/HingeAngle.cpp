@@ -1,8 +1,6 @@
 // The hinge angle and the multi-turn angle (MATH.md Q11). Derivation: HingeAngle.h.
 #include "HingeAngle.h"
 
-#include "QuaternionHingeRows.h"
-
 #include <cmath>
 
 namespace quathinge
@@ -27,20 +25,6 @@ btScalar hingeAngle(const btQuaternion& q)
 		z = -z;
 	}
 	return btScalar(2) * btAtan2(z, w);
-}
-
-btVector3 hingeAngleGradient(const btQuaternion& q)
-{
-	const btScalar w = q.w(), x = q.x(), y = q.y(), z = q.z();
-	const btScalar c2 = w * w + z * z;
-	if (c2 <= SIMD_EPSILON * SIMD_EPSILON) return btVector3(0, 0, 1);  // exactly flipped: θ undefined
-	const btScalar inv = btScalar(1) / c2;
-	return btVector3((w * y + z * x) * inv, (z * y - w * x) * inv, btScalar(1));
-}
-
-btVector3 axialRowDirection(const btQuaternion& q)
-{
-	return beyondQuarterTurn(q) ? btVector3(0, 0, 1) : hingeAngleGradient(q);
 }
 
 btScalar nearestBranch(btScalar raw, btScalar low, btScalar high)

@@ -16,6 +16,7 @@
 #include "LinearMath/btQuaternion.h"
 #include "LinearMath/btScalar.h"
 #include "LinearMath/btVector3.h"
+#include "QuaternionHingeRows.h"  // beyondQuarterTurn (Q12)
 
 namespace quathinge
 {
@@ -25,14 +26,25 @@ btScalar wrapAngle(btScalar angle);
 /// (Q11) θ ∈ (−π, π] from the relative quaternion q (either sign of q).
 btScalar hingeAngle(const btQuaternion& q);
 
-/// ∂θ/∂Ω in joint frame A (see above); ẑ when the axes are exactly flipped (θ undefined there).
-btVector3 hingeAngleGradient(const btQuaternion& q);
+/// ∂θ/∂Ω in joint frame A (see above); ẑ when the axes are exactly flipped (θ undefined there). Inline, as the next:
+/// asked at every step with a limit.
+inline btVector3 hingeAngleGradient(const btQuaternion& q)
+{
+	const btScalar w = q.w(), x = q.x(), y = q.y(), z = q.z();
+	const btScalar c2 = w * w + z * z;
+	if (c2 <= SIMD_EPSILON * SIMD_EPSILON) return btVector3(0, 0, 1);  // exactly flipped: θ undefined
+	const btScalar inv = btScalar(1) / c2;
+	return btVector3((w * y + z * x) * inv, (z * y - w * x) * inv, btScalar(1));
+}
 
 /// The direction of the axial (limit, drive, friction) rows in joint frame A: the exact gradient t while the axes are
 /// within 90° (q0² + q_z² ≥ ½, where |t| ≤ √2), the hinge axis ẑ beyond. Past 90° the angle is ill-conditioned
 /// (|t| grows as 1/cos(φ/2)); the fuzzer found a spring row there whose huge Jacobian threw a body to 1e27 rad/s.
 /// The joint is then far from assembled and its quaternion rows (the log form, Q12) are what matters.
-btVector3 axialRowDirection(const btQuaternion& q);
+inline btVector3 axialRowDirection(const btQuaternion& q)
+{
+	return beyondQuarterTurn(q) ? btVector3(0, 0, 1) : hingeAngleGradient(q);
+}
 
 /// (Q11) the continuous update θ_k = θ_{k−1} + wrap(θ_raw − θ_{k−1}).
 inline btScalar continueAngle(btScalar previous, btScalar raw) { return previous + wrapAngle(raw - previous); }
