@@ -47,9 +47,9 @@ factorized by Eigen's SimplicialLDLT (AMD ordering). The structure (islands, num
 is built once and reused while the joints and their bodies stay the same; a step with an unchanged structure
 allocates nothing (the sparse path aside: Eigen's factorization allocates its permuted copy). A factorization is
 reused for later Newton steps while the bodies have moved little since it was made (a chain's K is ill-conditioned,
-so "little" is ~1e-4). A typical step costs two factorizations (one for the Newton steps, one in M for the
-velocities), two or three evaluations of the rows and three solves; with positionRotationWeight = 1 the velocities
-are projected with the second Newton factorization instead.
+so "little" is ~1e-4). A typical step costs two factorizations, two or three evaluations of the rows and three
+solves: the first Newton step in the weighted metric; once a step has taken the error down a hundredfold the rest
+of the step works in M, whose factorization the velocity projection shares (else the velocities get one in M).
 
 Pose and velocity hand-back. A moved body gets its centre-of-mass (world) transform and its interpolation transform
 set to the projected pose, and its world inverse inertia refreshed (updateInertiaTensor); a body whose velocity
