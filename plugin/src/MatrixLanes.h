@@ -14,10 +14,15 @@
 #include <cstring>
 #include <type_traits>
 
-// With double-precision Bullet a Lanes value is 32 bytes, which GCC warns changes the calling convention without AVX
-// (-Wpsabi), at these helpers and at every call that passes one. They are inline and this header is internal to the
-// library (plugin/src only), so no call crosses an ABI boundary: the warning is off for the files that include it.
-#if defined(__GNUC__) && !defined(__clang__)
+// With double-precision Bullet a Lanes value is 32 bytes, which GCC and Clang warn changes the calling convention
+// without AVX (-Wpsabi), at these helpers and at every call that passes one. They are inline and this header is
+// internal to the library (plugin/src only), so no call crosses an ABI boundary: the warning is off for the files
+// that include it.
+#if defined(__clang__)
+#if __has_warning("-Wpsabi")
+#pragma clang diagnostic ignored "-Wpsabi"
+#endif
+#elif defined(__GNUC__)
 #pragma GCC diagnostic ignored "-Wpsabi"
 #endif
 
