@@ -883,19 +883,16 @@ void btQuaternionHingeConstraint::fillRows(btConstraintInfo2* info, const btTran
 	if (m_limitSign == 0 && !drive && !friction) return;
 
 	// Axis part: rows along J_α = σ R_A t (HingeAngle.h: the exact gradient of the angle within 90° of assembly).
+	// (In SIMD lanes, MatrixLanes.h: btVector3's products, the same bits.)
 	const btScalar sigma = userSign(m_settings.useReferenceFrameA);
-	btVector3 axis = pose.axial;
-	if (!pose.axialKnown) storeLanes(axis, timesTransposed(pose.axesA, axialRowDirection(pose.q)));
-	axis = sigma * axis;
-	const btScalar rate = axis.dot(angVelB - angVelA);
+	const Lanes axis =
+		(pose.axialKnown ? lanesOf(pose.axial) : timesTransposed(pose.axesA, axialRowDirection(pose.q))) * sigma;
+	const btScalar rate = dotXyz(axis, lanesOf(angVelB) - lanesOf(angVelA));
 	const btScalar normalErp = rowErp(kAxialKind, info->erp);
 	auto emit = [&](const AxialRow& axial, bool setCfm, btScalar cfm) {
 		const int at = row * skip;
-		for (int k = 0; k < 3; ++k)
-		{
-			info->m_J1angularAxis[at + k] = -axis[k];
-			info->m_J2angularAxis[at + k] = axis[k];
-		}
+		storeXyz(info->m_J1angularAxis + at, -axis);
+		storeXyz(info->m_J2angularAxis + at, axis);
 		info->m_constraintError[at] = axial.error;
 		info->m_lowerLimit[at] = axial.lower;
 		info->m_upperLimit[at] = axial.upper;
@@ -907,8 +904,12 @@ void btQuaternionHingeConstraint::fillRows(btConstraintInfo2* info, const btTran
 	{
 		btScalar invEffectiveMass = 0;
 		if (m_settings.driveMode == BT_QHINGE_DRIVE_SPRING)
-			invEffectiveMass = axis.dot(m_rbA.getInvInertiaTensorWorld() * axis * m_rbA.getAngularFactor()) +
-							   axis.dot(m_rbB.getInvInertiaTensorWorld() * axis * m_rbB.getAngularFactor());
+		{
+			btVector3 a;
+			storeLanes(a, axis);
+			invEffectiveMass = a.dot(m_rbA.getInvInertiaTensorWorld() * a * m_rbA.getAngularFactor()) +
+							   a.dot(m_rbB.getInvInertiaTensorWorld() * a * m_rbB.getAngularFactor());
+		}
 		const btScalar angle = needsAngle() ? m_multiTurnAngle : btScalar(0);
 		emit(driveRow(m_settings, angle, rate, info->fps, invEffectiveMass), axialCfm && m_settings.driveMode != BT_QHINGE_DRIVE_SPRING,
 			 m_settings.rowCfm[kAxialKind]);
