@@ -8,6 +8,10 @@
 #ifndef QUATHINGE_MATRIX_LANES_H
 #define QUATHINGE_MATRIX_LANES_H
 
+#if !defined(__GNUC__)  // GCC and Clang both define it
+#error "QuatHinge's row code uses GCC/Clang vector extensions (__attribute__((vector_size)), __builtin_shufflevector): build it with GCC 12 or later, or Clang"
+#endif
+
 #include "LinearMath/btMatrix3x3.h"
 
 #include <cstdint>
