@@ -515,6 +515,13 @@ ProjectionResult projectBlocks(BlockIsland<R>& island, const ProjectionSettings&
 	};
 	// The position stage works in M itself (its factorization can serve the velocities too).
 	auto positionMetricIsM = [&]() { return !island.stiffMetric && island.rotationWeight == 1; };
+	// Back to M (the velocity projection's metric, Q14); the current factorization is of the other metric.
+	auto useMassMetric = [&]() {
+		island.stiffMetric = false;
+		island.rotationWeight = 1;
+		loadInverseMasses(island);
+		factorAge = SIMD_INFINITY;
+	};
 	auto anyLimitTouched = [&]() {
 		for (const JointSlot& js : island.joints)
 			if (js.limitTouched != 0) return true;
@@ -573,12 +580,8 @@ ProjectionResult projectBlocks(BlockIsland<R>& island, const ProjectionSettings&
 			// A weighted step that gained kMetricSwitchGain or more has brought the pose close to the manifold, where
 			// Newton converges quadratically in any metric: the rest of the step works in M, whose factorization
 			// then serves the velocities as well (one factorization fewer).
-			if (!positionMetricIsM() && !island.stiffMetric && res.normalized <= kMetricSwitchGain * start.normalized)
-			{
-				island.rotationWeight = 1;
-				loadInverseMasses(island);
-				factorAge = SIMD_INFINITY;
-			}
+			if (island.rotationWeight != 1 && !island.stiffMetric && res.normalized <= kMetricSwitchGain * start.normalized)
+				useMassMetric();
 			if (res.normalized >= start.normalized)
 			{
 				restoreTransforms(island);
@@ -601,14 +604,7 @@ ProjectionResult projectBlocks(BlockIsland<R>& island, const ProjectionSettings&
 			}
 		}
 	}
-	if (!positionMetricIsM())
-	{
-		// Back to M for the velocities (Q14 must conserve momentum): the factorization is of the other metric.
-		island.stiffMetric = false;
-		island.rotationWeight = 1;
-		loadInverseMasses(island);
-		factorAge = SIMD_INFINITY;
-	}
+	if (!positionMetricIsM()) useMassMetric();  // the velocities in M (Q14 must conserve momentum)
 	if (result.iterations > 0) finishPositions(island);
 	result.residualAfter = res.max();
 	for (const JointSlot& js : island.joints)
