@@ -190,17 +190,28 @@ TEST(BadInput, SettersRefuseBadArgumentsAndKeepTheJointUnchanged)
 	EXPECT_EQ(j.getUpperLimit(), 2);
 }
 
+namespace
+{
+// Two boxes hinged and stepped a little, then a user sets a NaN angular velocity on `a` and the world steps once.
+btQuaternionHingeConstraint* hingeHitByNaNVelocity(qh_test::World& world, btRigidBody*& a, btRigidBody*& b)
+{
+	a = world.addBox(1, btVector3(1, 1, 1), btTransform::getIdentity());
+	b = world.addBox(1, btVector3(1, 1, 1), btTransform(btQuaternion::getIdentity(), btVector3(0, -2, 0)));
+	auto* joint = world.add(new btQuaternionHingeConstraint(*a, *b, btVector3(0, -1, 0), btVector3(0, 1, 0), btVector3(0, 0, 1), btVector3(0, 0, 1)));
+	world.step(5);
+	a->setAngularVelocity(btVector3(kNaN, 0, 0));
+	world.step(1);
+	return joint;
+}
+}  // namespace
+
 TEST(BadInput, NaNVelocityFromOutsideDisablesTheJointInsteadOfSpreading)
 {
 	// A user sets a NaN velocity on one body: the joint reports no rows, disables itself, says why, and the body on
 	// the other side stays finite.
 	qh_test::World world;
-	btRigidBody* a = world.addBox(1, btVector3(1, 1, 1), btTransform::getIdentity());
-	btRigidBody* b = world.addBox(1, btVector3(1, 1, 1), btTransform(btQuaternion::getIdentity(), btVector3(0, -2, 0)));
-	auto* joint = world.add(new btQuaternionHingeConstraint(*a, *b, btVector3(0, -1, 0), btVector3(0, 1, 0), btVector3(0, 0, 1), btVector3(0, 0, 1)));
-	world.step(5);
-	a->setAngularVelocity(btVector3(kNaN, 0, 0));
-	world.step(1);
+	btRigidBody *a, *b;
+	btQuaternionHingeConstraint* joint = hingeHitByNaNVelocity(world, a, b);
 	EXPECT_EQ(joint->getFault(), BT_QHINGE_FAULT_NONFINITE_BODY_STATE);
 	EXPECT_FALSE(joint->isEnabled());
 	EXPECT_EQ(joint->getNumRowsLastStep(), 0);
@@ -225,12 +236,8 @@ TEST(BadInput, AFaultStandsUntilClearFaultEvenIfTheJointIsReenabledByHand)
 	// A joint that faulted and was re-enabled with setEnabled(true) instead of clearFault() gives the solver no rows
 	// while its fault stands (the stabilizer skips such a joint too: both must agree); clearFault() brings it back.
 	qh_test::World world;
-	btRigidBody* a = world.addBox(1, btVector3(1, 1, 1), btTransform::getIdentity());
-	btRigidBody* b = world.addBox(1, btVector3(1, 1, 1), btTransform(btQuaternion::getIdentity(), btVector3(0, -2, 0)));
-	auto* joint = world.add(new btQuaternionHingeConstraint(*a, *b, btVector3(0, -1, 0), btVector3(0, 1, 0), btVector3(0, 0, 1), btVector3(0, 0, 1)));
-	world.step(5);
-	a->setAngularVelocity(btVector3(kNaN, 0, 0));
-	world.step(1);
+	btRigidBody *a, *b;
+	btQuaternionHingeConstraint* joint = hingeHitByNaNVelocity(world, a, b);
 	ASSERT_EQ(joint->getFault(), BT_QHINGE_FAULT_NONFINITE_BODY_STATE);
 	a->setAngularVelocity(btVector3(0, 0, 0));  // repaired, but the fault is not cleared
 	a->setLinearVelocity(btVector3(0, 0, 0));

@@ -168,18 +168,38 @@ private:
 	std::vector<btActionInterface*> m_actions;
 };
 
-// Steps `steps` times at 60 Hz and returns the largest separation and misalignment seen after any step.
-void runAndMeasure(StabilizerScene& scene, int steps, double& separation, double& misalignmentDeg)
+// A stabilizer's work per step, averaged over a run.
+struct StabilizerWork
+{
+	double newtonPerStep = 0;          // Newton iterations (the most any island used)
+	double factorizationsPerStep = 0;  // factorizations of K, all islands
+};
+
+// Steps `steps` times at 60 Hz and returns the largest separation and misalignment seen after any step; with
+// `stabilizer` and `work`, also that stabilizer's mean work per step.
+void runAndMeasure(StabilizerScene& scene, int steps, double& separation, double& misalignmentDeg,
+				   const btQuaternionHingeStabilizer* stabilizer = nullptr, StabilizerWork* work = nullptr)
 {
 	separation = 0;
 	misalignmentDeg = 0;
+	double newton = 0, factorizations = 0;
 	for (int i = 0; i < steps; ++i)
 	{
 		scene.world().stepSimulation(kTimeStep, 0);
+		if (stabilizer)
+		{
+			newton += stabilizer->getLastStats().iterations;
+			factorizations += stabilizer->getLastStats().factorizations;
+		}
 		double s, m;
 		scene.jointErrors(s, m);
 		separation = std::max(separation, s);
 		misalignmentDeg = std::max(misalignmentDeg, m);
+	}
+	if (work)
+	{
+		work->newtonPerStep = newton / steps;
+		work->factorizationsPerStep = factorizations / steps;
 	}
 }
 
@@ -921,7 +941,7 @@ TEST(Stabilizer, RotationWeightHoldsATenThousandToOneLoad)
 	// cube (0.2 m), released horizontally. In the mass metric (weight 1) the cheapest first-order fix of a stretched
 	// joint is to swing the light links, which the second-order terms undo: Newton falls short step after step and
 	// the chain tears apart. With the default rotation weight the correction moves the links along instead.
-	auto run = [](btScalar weight, double& separation, double& misalignment, double& newtonPerStep) {
+	auto run = [](btScalar weight, double& separation, double& misalignment, StabilizerWork& work) {
 		StabilizerScene scene;
 		const btScalar length = btScalar(0.5);
 		std::vector<btRigidBody*> links;
@@ -943,27 +963,17 @@ TEST(Stabilizer, RotationWeightHoldsATenThousandToOneLoad)
 		settings.positionRotationWeight = weight;
 		btQuaternionHingeStabilizer stabilizer(settings);
 		scene.addAction(&stabilizer);
-		separation = misalignment = 0;
-		double newton = 0;
-		const int steps = 300;  // 5 s at 60 Hz
-		for (int i = 0; i < steps; ++i)
-		{
-			scene.world().stepSimulation(kTimeStep, 0);
-			newton += stabilizer.getLastStats().iterations;
-			double s, m;
-			scene.jointErrors(s, m);
-			separation = std::max(separation, s);
-			misalignment = std::max(misalignment, m);
-		}
-		newtonPerStep = newton / steps;
+		runAndMeasure(scene, 300, separation, misalignment, &stabilizer, &work);  // 5 s at 60 Hz
 		return scene.allFinite();
 	};
-	double sepDefault, misDefault, newtonDefault, sepMass, misMass, newtonMass;
-	ASSERT_TRUE(run(btQuaternionHingeStabilizerSettings().positionRotationWeight, sepDefault, misDefault, newtonDefault));
-	const bool massFinite = run(1, sepMass, misMass, newtonMass);
+	double sepDefault, misDefault, sepMass, misMass;
+	StabilizerWork workDefault, workMass;
+	ASSERT_TRUE(run(btQuaternionHingeStabilizerSettings().positionRotationWeight, sepDefault, misDefault, workDefault));
+	const bool massFinite = run(1, sepMass, misMass, workMass);
 	std::cout << "[ figures  ] 1:10000 load on 5 links, 5 s: rotation weight 1: max separation " << sepMass
-			  << " m, misalignment " << misMass << " deg, " << newtonMass << " Newton iterations/step; default weight: "
-			  << sepDefault << " m, " << misDefault << " deg, " << newtonDefault << std::endl;
+			  << " m, misalignment " << misMass << " deg, " << workMass.newtonPerStep
+			  << " Newton iterations/step; default weight: " << sepDefault << " m, " << misDefault << " deg, "
+			  << workDefault.newtonPerStep << std::endl;
 	EXPECT_LE(sepDefault, kHeavySeparationTolerance);
 	EXPECT_LE(misDefault, kMisalignmentToleranceDeg);
 	EXPECT_TRUE(!massFinite || sepMass > 100 * kHeavySeparationTolerance);  // the weight is what holds it
@@ -973,38 +983,28 @@ TEST(Stabilizer, RotationWeightKeepsNewtonShortOnALongChain)
 {
 	// A hanging 300-link chain: Newton iterations per step (the projection's cost) with the default rotation weight
 	// against the mass metric; both end on the joints.
-	auto run = [](btScalar weight, double& separation, double& newtonPerStep, double& factorizationsPerStep) {
+	auto run = [](btScalar weight, double& separation, StabilizerWork& work) {
 		StabilizerScene scene;
 		scene.chain(300);
 		btQuaternionHingeStabilizerSettings settings;
 		settings.positionRotationWeight = weight;
 		btQuaternionHingeStabilizer stabilizer(settings);
 		scene.addAction(&stabilizer);
-		double newton = 0, factorizations = 0, misalignment;
-		const int steps = 120;
-		separation = 0;
-		for (int i = 0; i < steps; ++i)
-		{
-			scene.world().stepSimulation(kTimeStep, 0);
-			newton += stabilizer.getLastStats().iterations;
-			factorizations += stabilizer.getLastStats().factorizations;
-			double s;
-			scene.jointErrors(s, misalignment);
-			separation = std::max(separation, s);
-		}
-		newtonPerStep = newton / steps;
-		factorizationsPerStep = factorizations / steps;
+		double misalignment;
+		runAndMeasure(scene, 120, separation, misalignment, &stabilizer, &work);
 		return scene.allFinite();
 	};
-	double sepDefault, newtonDefault, factDefault, sepMass, newtonMass, factMass;
-	ASSERT_TRUE(run(btQuaternionHingeStabilizerSettings().positionRotationWeight, sepDefault, newtonDefault, factDefault));
-	ASSERT_TRUE(run(1, sepMass, newtonMass, factMass));
-	std::cout << "[ figures  ] 300-link chain, 2 s: Newton iterations/step " << newtonMass << " (weight 1) -> "
-			  << newtonDefault << " (default), factorizations/step " << factMass << " -> " << factDefault
-			  << "; max separation " << sepMass << " m -> " << sepDefault << " m" << std::endl;
+	double sepDefault, sepMass;
+	StabilizerWork workDefault, workMass;
+	ASSERT_TRUE(run(btQuaternionHingeStabilizerSettings().positionRotationWeight, sepDefault, workDefault));
+	ASSERT_TRUE(run(1, sepMass, workMass));
+	std::cout << "[ figures  ] 300-link chain, 2 s: Newton iterations/step " << workMass.newtonPerStep
+			  << " (weight 1) -> " << workDefault.newtonPerStep << " (default), factorizations/step "
+			  << workMass.factorizationsPerStep << " -> " << workDefault.factorizationsPerStep << "; max separation "
+			  << sepMass << " m -> " << sepDefault << " m" << std::endl;
 	// m: the rounding floor of a pivot 150 m from the origin (4ε·150 m; the stabilizer's own convergence test)
 	const double floor = std::max(kSeparationTolerance, 4 * double(SIMD_EPSILON) * 150);
 	EXPECT_LE(sepDefault, floor);
 	EXPECT_LE(sepMass, floor);
-	EXPECT_LT(newtonDefault, newtonMass);
+	EXPECT_LT(workDefault.newtonPerStep, workMass.newtonPerStep);
 }
