@@ -3,7 +3,7 @@
 #   bash demos/make_report.sh        (about a minute of runs on two cores, after the float and double builds)
 # Uses Debian's own /usr/bin/python3 (python3-matplotlib). Writes the plots to docs/images/, the table to
 # docs/images/results.md and into README.md (between the results markers), the raw CSV/JSON to demos/out/report/.
-# QUATHINGE_BUILD_DIR picks the build directory (default build/); QUATHINGE_MODELS_DIR the shared models.
+# QUATHINGE_BUILD_DIR picks the build directory (default build/); QUATHINGE_MODELS_DIR the models (default demos/models).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash cmake/setup-debian.sh
@@ -19,7 +19,7 @@ cmake --build "$reference_build" -j2 --target quathinge-compare
 reference=(--reference-exe "$reference_build/demos/quathinge-compare")
 out=demos/out/report
 mkdir -p "$out"
-models=${QUATHINGE_MODELS_DIR:-../shared/models}
+models=${QUATHINGE_MODELS_DIR:-demos/models}
 scenes_table=(pendulum chain10 chain30 heavy100 heavy1000 heavy10000 double_pendulum rotor100 flipped90 flipped179 flipped180
               limit_hit limit_across_pi limit_wide motor_lift four_bar ragdoll spider kuka_iiwa pendulum5)
 # 1. the table: every listed scene × kind at 60 Hz, 10 iterations, with references

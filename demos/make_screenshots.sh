@@ -11,7 +11,7 @@ build=${QUATHINGE_VIEWER_BUILD:-build}
 cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=Release >/dev/null
 cmake --build "$build" -j2 --target quathinge-viewer
 viewer="$build/demos/viewer/quathinge-viewer"
-models=${QUATHINGE_MODELS_DIR:-../shared/models}
+models=${QUATHINGE_MODELS_DIR:-demos/models}
 run() { xvfb-run -a -s "-screen 0 1280x720x24" "$viewer" --models "$models" "$@"; }
 run --scene heavy1000 --kinds stock,quaternion+stab --screenshot docs/images/viewer_heavy1000.png --frames 90
 run --scene heavy1000 --kinds stock,quaternion+stab --strip docs/images/viewer_heavy1000_strip.png \

@@ -8,7 +8,7 @@ cd "$(dirname "$0")/.."
 steps=${1:-1000000}
 cmake -S . -B build -DCMAKE_BUILD_TYPE=Release >/dev/null
 cmake --build build -j2 --target quathinge-compare
-models=${QUATHINGE_MODELS_DIR:-../shared/models}
+models=${QUATHINGE_MODELS_DIR:-demos/models}
 out=demos/out/soak
 mkdir -p "$out"
 : >"$out/soak.txt"

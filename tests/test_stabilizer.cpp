@@ -1,4 +1,4 @@
-// btQuaternionHingeStabilizer: post-stabilization of quaternion hinges (shared/MATH.md Q13, Q14).
+// btQuaternionHingeStabilizer: post-stabilization of quaternion hinges (docs/MATH.md Q13, Q14).
 // Each test opens with one line of intent. Scenes are built by the fixture below; every tolerance is named, with its
 // unit and the reason for its value, per precision (Debian's float Bullet and BT_USE_DOUBLE_PRECISION).
 // Built when the QuatHinge::Stabilizer target is (tests/CMakeLists.txt defines QUATHINGE_HAVE_STABILIZER then).

@@ -111,7 +111,7 @@ int main(int argc, char** argv)
 	app.add_option("--sweep-iterations", sweepIterations, "sweep these iteration counts");
 	app.add_option("-j,--jobs", jobs, "parallel runs")->capture_default_str()->check(CLI::PositiveNumber);
 	app.add_option("-o,--out", out, "directory for results.csv and results.json")->capture_default_str();
-	app.add_option("--models", models, "directory of the shared models (default: $QUATHINGE_MODELS_DIR or ../shared/models)");
+	app.add_option("--models", models, "directory of the models (default: $QUATHINGE_MODELS_DIR, else the installed share/quathinge/models, else the source tree's demos/models)");
 	app.add_flag("--no-reference", noReference, "skip the fine-step reference runs (faster; no trajectory error)");
 	app.add_flag("--series", series, "record time series (separation, misalignment, energy) in the JSON");
 	app.add_flag("--list", list, "list the scenes and exit");
@@ -125,7 +125,7 @@ int main(int argc, char** argv)
 	app.add_option("--dump-steps", dumpSteps, "coarse steps for --dump-reference");
 	CLI11_PARSE(app, argc, argv);
 
-	if (models.empty()) models = std::getenv("QUATHINGE_MODELS_DIR") ? std::getenv("QUATHINGE_MODELS_DIR") : "../shared/models";
+	if (models.empty()) models = defaultModelsDir();
 	if (list)
 	{
 		for (const std::string& name : sceneNames())

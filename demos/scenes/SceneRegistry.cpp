@@ -1,6 +1,8 @@
 // The list of scenes, by name, and the helpers several scenes share.
 #include "SceneSpec.h"
 
+#include <cstdlib>
+#include <filesystem>
 #include <map>
 #include <stdexcept>
 
@@ -59,8 +61,23 @@ std::vector<std::string> sceneNames()
 			"four_bar",      "ragdoll",       "spider",          "kuka_iiwa",      "pendulum5"};
 }
 
-SceneSpec makeScene(const std::string& name, unsigned seed, const std::string& modelsDir)
+std::string defaultModelsDir()
 {
+	if (const char* dir = std::getenv("QUATHINGE_MODELS_DIR"); dir && *dir) return dir;
+	// An installed program: <prefix>/bin/quathinge-compare finds <prefix>/share/quathinge/models.
+	std::error_code error;
+	const std::filesystem::path exe = std::filesystem::read_symlink("/proc/self/exe", error);
+	if (!error)
+	{
+		const std::filesystem::path installed = exe.parent_path().parent_path() / "share" / "quathinge" / "models";
+		if (std::filesystem::is_directory(installed, error)) return installed.string();
+	}
+	return QUATHINGE_SOURCE_MODELS_DIR;  // the build tree: this source tree's demos/models
+}
+
+SceneSpec makeScene(const std::string& name, unsigned seed, const std::string& modelsArgument)
+{
+	const std::string modelsDir = modelsArgument.empty() ? defaultModelsDir() : modelsArgument;
 	if (name == "pendulum") return pendulumScene();
 	if (name == "chain10") return chainScene(10, seed);
 	if (name == "chain30") return chainScene(30, seed);

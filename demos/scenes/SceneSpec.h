@@ -97,9 +97,12 @@ bool isTree(const SceneSpec& scene);
 
 /// Every scene name, in a stable order.
 std::vector<std::string> sceneNames();
-/// The scene of that name (throws std::invalid_argument for an unknown name). `modelsDir` is where the shared
-/// models are (URDF, .bullet); `seed` drives any randomness.
-SceneSpec makeScene(const std::string& name, unsigned seed = 1, const std::string& modelsDir = "../shared/models");
+/// Where the models (URDF, .bullet) are: $QUATHINGE_MODELS_DIR when set; else `share/quathinge/models` beside the
+/// installed program (`<prefix>/bin/../share/quathinge/models`) when it exists; else the source tree's demos/models.
+std::string defaultModelsDir();
+/// The scene of that name (throws std::invalid_argument for an unknown name). `modelsDir` is where the models are
+/// (URDF, .bullet; empty: defaultModelsDir()); `seed` drives any randomness.
+SceneSpec makeScene(const std::string& name, unsigned seed = 1, const std::string& modelsDir = "");
 
 // The scene builders (one file each).
 SceneSpec pendulumScene();

@@ -1,4 +1,4 @@
-// The spider of bullet3's MotorDemo, read from ../shared/models/spider.bullet with Debian's world importer: 27
+// The spider of bullet3's MotorDemo, read from demos/models/spider.bullet with Debian's world importer: 27
 // bodies, 24 btHingeConstraints with limits and motors. The kinds convert its hinges (JointKinds.cpp).
 #include "SceneSpec.h"
 

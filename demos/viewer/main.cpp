@@ -407,7 +407,7 @@ public:
 	{
 		m_panes.clear();
 		m_steps = 0;
-		const SceneSpec spec = makeScene(m_scene, 1, m_opt.models.empty() ? "../shared/models" : m_opt.models);
+		const SceneSpec spec = makeScene(m_scene, 1, m_opt.models);
 		m_description = spec.unavailable.empty() ? spec.description : spec.unavailable;
 		for (Kind k : m_kinds)
 		{
@@ -807,7 +807,7 @@ int main(int argc, char** argv)
 	app.add_option("--kinds", o.kinds, "kinds, side by side: stock 6dof2 quaternion quaternion+stab multibody")->delimiter(',');
 	app.add_option("--dt", o.dt, "time step (s)");
 	app.add_option("--iterations", o.iterations, "solver iterations");
-	app.add_option("--models", o.models, "directory of the shared models (default ../shared/models)");
+	app.add_option("--models", o.models, "directory of the models (default: as quathinge-compare --help says)");
 	app.add_option("--screenshot", o.screenshot, "render headless: write this PNG after --frames steps and exit");
 	app.add_option("--frames", o.frames, "steps before the screenshot");
 	app.add_option("--strip", o.strip, "write a frame strip (frames at --strip-frames, stacked) to this PNG and exit");
@@ -826,7 +826,7 @@ int main(int argc, char** argv)
 	try
 	{
 		for (const std::string& k : o.kinds) parseKind(k);
-		makeScene(o.scene, 1, o.models.empty() ? "../shared/models" : o.models);
+		makeScene(o.scene, 1, o.models);
 	}
 	catch (const std::exception& e)
 	{

@@ -1,6 +1,6 @@
 // The quaternion two-row part: the hinge's two angular rows from the relative quaternion.
 //
-// Derivation (shared/MATH.md, from the seed note):
+// Derivation (docs/MATH.md, from the seed note):
 //   (Q2)  q = a* ⊗ b                      relative rotation of joint frame B in joint frame A
 //   (Q4)  C_u = q_v · x̂ = 0,  C_v = q_v · ŷ = 0          (an ideal hinge has q = (cos θ/2, sin θ/2 ẑ))
 //   (Q5)  q̇ = ½ Ω ⊗ q,  Ω = R_Aᵀ (ω_B − ω_A)

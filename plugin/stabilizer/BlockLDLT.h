@@ -1,6 +1,6 @@
 // Tree-ordered block LDLᵀ of K = J M⁻¹ Jᵀ: linear in the number of joints, without fill, for islands whose joint
 // numbering is a perfect elimination order (Baraff, "Linear-time dynamics using Lagrange multipliers", SIGGRAPH 1996;
-// shared/MATH.md, "for a tree it factorizes in O(n)").
+// docs/MATH.md, "for a tree it factorizes in O(n)").
 //
 //   K = L D Lᵀ with L unit block-lower and dense R×R diagonal blocks D_k (R = 5 or 6, BlockMatrix.h); each D_k = L_k P_k L_kᵀ densely (unit lower
 //   L_k, pivots P_k), X_k = L_k⁻¹, so D_k⁻¹ = X_kᵀ P_k⁻¹ X_k. Column k, right-looking, with W_ik = K_ik (updated):

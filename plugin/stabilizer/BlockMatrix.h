@@ -1,4 +1,4 @@
-// The stabilizer's K = J M⁻¹ Jᵀ in block form (shared/MATH.md Q13, Q14, "K has the joint graph's sparsity").
+// The stabilizer's K = J M⁻¹ Jᵀ in block form (docs/MATH.md Q13, Q14, "K has the joint graph's sparsity").
 //
 // One block row per joint: its bilateral rows (3 linear + 2 quaternion, or 2 when angular-only) and, for a joint with
 // a limit, one slot for the limit row. K_ij = Σ_b J_ib M_b⁻¹ J_jbᵀ over the movable bodies b that joints i and j share,

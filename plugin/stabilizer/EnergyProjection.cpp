@@ -1,4 +1,4 @@
-// Energy restoration for conservative islands (shared/MATH.md, "Beyond the rows", last item: projection onto the
+// Energy restoration for conservative islands (docs/MATH.md, "Beyond the rows", last item: projection onto the
 // energy level, Hairer–Lubich–Wanner, Geometric Numerical Integration, ch. IV.4).
 //
 // Semi-implicit Euler with velocity-level joints loses energy (a frictionless pendulum released at 90°: about a

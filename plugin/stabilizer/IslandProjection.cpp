@@ -1,4 +1,4 @@
-// Post-stabilization of one island (shared/MATH.md Q13, Q14; Cline & Pai, ICRA 2003).
+// Post-stabilization of one island (docs/MATH.md Q13, Q14; Cline & Pai, ICRA 2003).
 //
 //   (Q13) positions:  K = J M⁻¹ Jᵀ + ε s I,  K λ = −C,  Δx_b = M_b⁻¹ J_bᵀ λ  (linear: x ← x + Δx; angular:
 //                     q ← normalize(q + ½ Δθ ⊗ q), Δθ a world-frame rotation), repeated until ‖C‖ is at tolerance.

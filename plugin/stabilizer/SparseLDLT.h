@@ -1,4 +1,4 @@
-// The general sparse LDLᵀ of K (shared/MATH.md Q13, Q14): Eigen's SimplicialLDLT with AMD ordering, for islands with
+// The general sparse LDLᵀ of K (docs/MATH.md Q13, Q14): Eigen's SimplicialLDLT with AMD ordering, for islands with
 // closed loops (where no joint numbering avoids fill) and as the reference for the tree-ordered BlockLDLT.
 //
 // The scalar pattern is every entry of each joint's own rows in every block of the BlockPattern (structural zeros

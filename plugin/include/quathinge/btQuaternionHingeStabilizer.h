@@ -1,5 +1,5 @@
 /*
-QuatHinge — drift-free quaternion hinges by post-stabilization (shared/MATH.md, "Beyond the rows", Q13, Q14).
+QuatHinge — drift-free quaternion hinges by post-stabilization (docs/MATH.md, "Beyond the rows", Q13, Q14).
 
 btQuaternionHingeStabilizer is a btActionInterface. Add it to a world (world->addAction(&stabilizer)); Bullet then
 calls updateAction after integrating the transforms in every internal step (sub-steps included), and the stabilizer
