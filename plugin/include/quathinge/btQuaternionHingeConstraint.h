@@ -22,6 +22,7 @@ in getInfo1: the joint then reports no rows, disables itself and records why (ge
 #include "LinearMath/btTransform.h"
 #include "LinearMath/btVector3.h"
 #include "BulletDynamics/ConstraintSolver/btTypedConstraint.h"
+#include "quathinge/quathinge_export.h"
 
 class btHingeConstraint;
 class btDynamicsWorld;
@@ -119,7 +120,7 @@ struct btQuaternionHingeSettings
 };
 
 ATTRIBUTE_ALIGNED16(class)
-btQuaternionHingeConstraint : public btTypedConstraint
+QUATHINGE_API btQuaternionHingeConstraint : public btTypedConstraint
 {
 public:
 	BT_DECLARE_ALIGNED_ALLOCATOR();
@@ -324,7 +325,7 @@ private:
 /// each removed stock hinge is appended to *removedStock (the caller deletes them; if removedStock is null they are
 /// deleted here), and each new joint is appended to *added (if not null). The caller deletes the new joints after
 /// removing them from the world, as it would have deleted the stock ones.
-int btReplaceHingeConstraints(btDynamicsWorld * world, btAlignedObjectArray<btQuaternionHingeConstraint*>* added = 0,
+QUATHINGE_API int btReplaceHingeConstraints(btDynamicsWorld * world, btAlignedObjectArray<btQuaternionHingeConstraint*>* added = 0,
 							  btAlignedObjectArray<btHingeConstraint*>* removedStock = 0);
 
 #endif  // BT_QUATERNION_HINGE_CONSTRAINT_H

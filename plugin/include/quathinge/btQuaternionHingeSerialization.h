@@ -45,7 +45,7 @@ struct btQuaternionHingeConstraintData
 
 /// Reads the settings back from a serialized buffer of `size` bytes. Returns false (and says why in *why) when the
 /// buffer is too small, is a plain btHingeConstraintData without the tail, or has an unknown version.
-bool btQuaternionHingeReadSettings(const void* data, size_t size, btQuaternionHingeSettings& settings,
+QUATHINGE_API bool btQuaternionHingeReadSettings(const void* data, size_t size, btQuaternionHingeSettings& settings,
 								   std::string* why = 0);
 
 /// Builds the joint from a serialized buffer: settings (as above) plus what btTypedConstraint keeps (breaking
@@ -53,7 +53,7 @@ bool btQuaternionHingeReadSettings(const void* data, size_t size, btQuaternionHi
 /// multi-turn angle. Throws std::invalid_argument on a buffer btQuaternionHingeReadSettings refuses, or whose
 /// btTypedConstraint fields are out of range: breaking threshold < 0 or NaN, solver-iteration override other than −1
 /// or 1…1000 (a larger one would stall the solver), debug-draw size not finite or < 0.
-btQuaternionHingeConstraint* btQuaternionHingeDeserialize(const void* data, size_t size, btRigidBody& rbA,
+QUATHINGE_API btQuaternionHingeConstraint* btQuaternionHingeDeserialize(const void* data, size_t size, btRigidBody& rbA,
 														  btRigidBody& rbB);
 
 #endif

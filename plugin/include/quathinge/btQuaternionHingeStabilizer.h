@@ -63,6 +63,7 @@ Eigen is a private dependency of this library: nothing here includes it.
 
 #include "BulletDynamics/Dynamics/btActionInterface.h"
 #include "LinearMath/btScalar.h"
+#include "quathinge/quathinge_stabilizer_export.h"
 
 #include <memory>
 
@@ -156,7 +157,7 @@ struct btQuaternionHingeStabilizerStats
 };
 
 ATTRIBUTE_ALIGNED16(class)
-btQuaternionHingeStabilizer : public btActionInterface
+QUATHINGE_STABILIZER_API btQuaternionHingeStabilizer : public btActionInterface
 {
 public:
 	BT_DECLARE_ALIGNED_ALLOCATOR();
