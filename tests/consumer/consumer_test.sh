@@ -59,7 +59,7 @@ if [ ${#shared[@]} -gt 0 ]; then
     echo "shared:     $(basename "$lib") SONAME $soname, $(nm -DC --defined-only "$lib" | grep -c btQuaternionHinge) btQuaternionHinge* symbols exported, none of quathinge::"
   done
   core=$libdir/libQuatHinge${pc#quathinge}.so
-  nm -DC --defined-only "$core" | grep -q 'btQuaternionHingeConstraint::getHingeAngle() const' ||
+  nm -DC --defined-only "$core" | grep 'btQuaternionHingeConstraint::getHingeAngle() const' >/dev/null ||
     fail "$core does not export the public class"
   echo "shared:     RUNPATH of the installed $(basename "$core"): $(readelf -d "$core" | sed -n 's/.*(RUNPATH).*\[\(.*\)\]/\1/p')"
 fi

@@ -1,0 +1,129 @@
+#!/usr/bin/env bash
+# CI: QuatHinge against a Bullet built from source, with no system Bullet in sight. The source is Debian's source package
+# of Bullet 3.24 (apt-get source; its upstream tarball, without Debian's patches, as a user building a Bullet release
+# has it), built static, library only (no extras, demos, tests or Bullet 3), about a minute a build on 2 cores.
+# Every pkg-config search is limited to that Bullet (PKG_CONFIG_LIBDIR), so Debian's bullet.pc cannot be picked up.
+#  1. float, installed: QuatHinge finds it through its bullet.pc, builds (libraries and tests; no demos: this Bullet
+#     has no world importer), passes consumer_package (an outside CMake project and a plain g++ + pkg-config build)
+#     and the gtest groups listed in $tests; ldd shows no libBullet and the programs hold Bullet's code (nm).
+#  2. super-project: add_subdirectory(<bullet source>) + add_subdirectory(<QuatHinge>) + a hinge app: builds and runs,
+#     no compile line names /usr/include/bullet, no libBullet in ldd.
+#  3. double (USE_DOUBLE_PRECISION=ON; its bullet.pc carries -DBT_USE_DOUBLE_PRECISION, no -float64 name): with the
+#     default options QuatHinge follows it (through bullet.pc, and through -DBullet_DIR=<its BulletConfig.cmake> with
+#     no pkg-config at all) and the consumer runs with sizeof(btScalar)=8; -DQUATHINGE_DOUBLE_PRECISION=OFF stops at
+#     configure time naming both.
+#   bash cmake/ci-source-bullet.sh [WORKDIR]   (default: a new temporary folder; adds a deb-src line if none, as root
+#                                              or through sudo)
+set -euo pipefail
+src=$(cd "$(dirname "$0")/.." && pwd)
+work=${1:-$(mktemp -d /tmp/quathinge-source-bullet.XXXXXX)}
+mkdir -p "$work"
+work=$(cd "$work" && pwd)
+tests='consumer_package|HingeAngle|QuaternionRows|Limits|Drives|BadInput|ParityWithStock|Serialization|Stabilizer'
+fail() { echo "ci-source-bullet: FAILED: $*" >&2; exit 1; }
+step() { echo; echo "=== ci-source-bullet: $* ($(date -u +%T))"; }
+as_root=()
+[ "$(id -u)" -eq 0 ] || as_root=(sudo)
+
+# ---- Bullet's source
+step "Bullet source (apt-get source bullet)"
+if ! apt-get source --print-uris bullet >/dev/null 2>&1; then
+  echo "adding deb-src for bookworm main"
+  printf 'Types: deb-src\nURIs: http://deb.debian.org/debian\nSuites: bookworm\nComponents: main\nSigned-By: /usr/share/keyrings/debian-archive-keyring.gpg\n' |
+    "${as_root[@]}" tee /etc/apt/sources.list.d/quathinge-deb-src.sources >/dev/null
+  "${as_root[@]}" apt-get update -qq
+fi
+if ! ls "$work"/dl/bullet_*.orig.tar.* >/dev/null 2>&1; then
+  mkdir -p "$work/dl"
+  (cd "$work/dl" && apt-get source --download-only -qq bullet 2>&1 | grep -v "^W: Download is performed unsandboxed" || true)
+fi
+orig=$(ls "$work"/dl/bullet_*.orig.tar.* | head -n1)
+rm -rf "$work"/bullet3-*
+tar xf "$orig" -C "$work"
+bullet_src=$(ls -d "$work"/bullet3-* | head -n1)
+echo "source: $orig -> $bullet_src"
+bullet_options=(-DCMAKE_BUILD_TYPE=Release -DBUILD_EXTRAS=OFF -DBUILD_UNIT_TESTS=OFF -DBUILD_CPU_DEMOS=OFF
+  -DBUILD_BULLET2_DEMOS=OFF -DBUILD_OPENGL3_DEMOS=OFF -DBUILD_PYBULLET=OFF -DBUILD_BULLET3=OFF)
+
+build_bullet() {  # name, extra options
+  local name=$1; shift
+  if [ -f "$work/bullet-$name/lib/pkgconfig/bullet.pc" ]; then echo "reusing $work/bullet-$name"; return; fi
+  cmake -S "$bullet_src" -B "$work/bullet-build-$name" "${bullet_options[@]}" "$@" \
+    -DCMAKE_INSTALL_PREFIX="$work/bullet-$name" >"$work/bullet-$name.log" 2>&1 || { cat "$work/bullet-$name.log"; exit 1; }
+  cmake --build "$work/bullet-build-$name" -j2 >>"$work/bullet-$name.log" 2>&1 || { tail -n 30 "$work/bullet-$name.log"; exit 1; }
+  cmake --install "$work/bullet-build-$name" >>"$work/bullet-$name.log"
+  echo "installed: $(cd "$work/bullet-$name" && ls lib/*.a lib/pkgconfig/*.pc lib/cmake/bullet/BulletConfig.cmake | tr '\n' ' ')"
+}
+# No libBullet/libLinearMath from anywhere in ldd, and Bullet's own code inside the program.
+check_links_no_shared_bullet() {
+  local f
+  for f in "$@"; do
+    echo "ldd $(basename "$f"):"; ldd "$f" | sed 's/^/    /'
+    if ldd "$f" | grep -E 'libBullet|libLinearMath'; then fail "$f links a shared Bullet"; fi
+    nm -C "$f" | grep ' [TW] btDiscreteDynamicsWorld::stepSimulation' >/dev/null || fail "$f has no Bullet code of its own"
+  done
+}
+
+# ---- 1. float Bullet, installed, found through its bullet.pc only
+step "1. static float Bullet, installed"
+build_bullet float
+export PKG_CONFIG_LIBDIR=$work/bullet-float/lib/pkgconfig
+echo "PKG_CONFIG_LIBDIR=$PKG_CONFIG_LIBDIR: $(pkg-config --list-all | tr '\n' ' ')"
+cmake -S "$src" -B "$work/qh-float" -DQUATHINGE_WERROR=ON -DQUATHINGE_BUILD_DEMOS=OFF | grep "QuatHinge:"
+cmake --build "$work/qh-float" -j2 >"$work/qh-float.log" 2>&1 || { tail -n 40 "$work/qh-float.log"; exit 1; }
+ctest --test-dir "$work/qh-float" -R "$tests" --output-on-failure -j2 >"$work/qh-float-ctest.log" 2>&1 ||
+  { cat "$work/qh-float-ctest.log"; fail "tests against the installed float Bullet"; }
+grep -E "tests passed|consumer:|consumer_test" "$work/qh-float-ctest.log" || true
+check_links_no_shared_bullet "$work/qh-float/tests/quathinge_tests" "$work/qh-float/tests/consumer_scratch/pc-app" \
+  "$work/qh-float/tests/consumer_scratch/build/consumer"
+
+# ---- 2. super-project: Bullet's source and QuatHinge's tree side by side, no pkg-config at all
+step "2. super-project: add_subdirectory(bullet) + add_subdirectory(quathinge)"
+export PKG_CONFIG_LIBDIR=$work/no-pkgconfig
+mkdir -p "$work/super" "$PKG_CONFIG_LIBDIR"
+cp "$src/tests/consumer/main.cpp" "$work/super/main.cpp"
+cat >"$work/super/CMakeLists.txt" <<EOF
+cmake_minimum_required(VERSION 3.21)
+project(SuperProject LANGUAGES C CXX)
+set(CMAKE_CXX_STANDARD 17)
+foreach(option BUILD_EXTRAS BUILD_UNIT_TESTS BUILD_CPU_DEMOS BUILD_BULLET2_DEMOS BUILD_OPENGL3_DEMOS BUILD_PYBULLET
+               BUILD_BULLET3 INSTALL_LIBS)
+  set(\${option} OFF CACHE BOOL "" FORCE)
+endforeach()
+add_subdirectory("$bullet_src" bullet)
+add_subdirectory("$src" quathinge)
+add_executable(app main.cpp)
+target_link_libraries(app PRIVATE QuatHinge::QuatHinge)
+EOF
+cmake -S "$work/super" -B "$work/super-build" -DCMAKE_BUILD_TYPE=Release 2>"$work/super-configure.err" | grep "QuatHinge:"
+cmake --build "$work/super-build" -j2 --target app >"$work/super.log" 2>&1 || { tail -n 40 "$work/super.log"; exit 1; }
+"$work/super-build/app"
+if grep -rl "/usr/include/bullet" "$work/super-build" --include=flags.make; then fail "a compile line names /usr/include/bullet"; fi
+check_links_no_shared_bullet "$work/super-build/app"
+
+# ---- 3. double Bullet: followed by default, refused when float is asked for
+step "3. static double Bullet (USE_DOUBLE_PRECISION=ON)"
+build_bullet double -DUSE_DOUBLE_PRECISION=ON
+grep -q -- "-DBT_USE_DOUBLE_PRECISION" "$work/bullet-double/lib/pkgconfig/bullet.pc" || fail "double bullet.pc without the define"
+export PKG_CONFIG_LIBDIR=$work/bullet-double/lib/pkgconfig
+qh_lib_only=(-DQUATHINGE_WERROR=ON -DQUATHINGE_BUILD_DEMOS=OFF -DQUATHINGE_BUILD_TESTS=OFF)
+cmake -S "$src" -B "$work/qh-double-pc" "${qh_lib_only[@]}" | grep "QuatHinge:" | tee "$work/qh-double-pc.cfg"
+grep -q "BT_USE_DOUBLE_PRECISION=ON: pkg-config bullet" "$work/qh-double-pc.cfg" || fail "double bullet.pc not followed"
+cmake --build "$work/qh-double-pc" -j2 >"$work/qh-double-pc.log" 2>&1 || { tail -n 40 "$work/qh-double-pc.log"; exit 1; }
+bash "$src/tests/consumer/consumer_test.sh" "$work/qh-double-pc" "$work/consumer-double-pc" ON
+if cmake -S "$src" -B "$work/qh-double-mismatch" "${qh_lib_only[@]}" -DQUATHINGE_DOUBLE_PRECISION=OFF \
+     >"$work/mismatch.log" 2>&1; then
+  fail "QUATHINGE_DOUBLE_PRECISION=OFF against a double Bullet configured"
+fi
+grep -A3 "CMake Error" "$work/mismatch.log" | head -n 6
+grep -q "BT_USE_DOUBLE_PRECISION=ON" "$work/mismatch.log" || fail "the mismatch error does not name the Bullet's precision"
+
+export PKG_CONFIG_LIBDIR=$work/no-pkgconfig
+cmake -S "$src" -B "$work/qh-double-config" "${qh_lib_only[@]}" \
+  -DBullet_DIR="$work/bullet-double/lib/cmake/bullet" | grep "QuatHinge:" | tee "$work/qh-double-config.cfg"
+grep -q "BT_USE_DOUBLE_PRECISION=ON: BulletConfig.cmake" "$work/qh-double-config.cfg" || fail "Bullet_DIR not followed"
+cmake --build "$work/qh-double-config" -j2 >"$work/qh-double-config.log" 2>&1 || { tail -n 40 "$work/qh-double-config.log"; exit 1; }
+bash "$src/tests/consumer/consumer_test.sh" "$work/qh-double-config" "$work/consumer-double-config" ON
+check_links_no_shared_bullet "$work/consumer-double-config/pc-app"
+
+step "ci-source-bullet: all passed (work folder $work)"
