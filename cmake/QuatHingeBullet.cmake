@@ -295,7 +295,7 @@ macro(quathinge_find_bullet)
     if(TARGET QuatHinge::BulletExtras)
       set(_quathinge_extras "with its world importer (QuatHinge::BulletExtras)")
     else()
-      set(_quathinge_extras "without a world importer (libbullet-extras-dev): .bullet scenes are skipped")
+      set(_quathinge_extras "without a world importer (BulletWorldImporter; on Debian libbullet-extras-dev): .bullet scenes are skipped")
     endif()
     message(STATUS "QuatHinge: Bullet ${QUATHINGE_BULLET_VERSION}, BT_USE_DOUBLE_PRECISION=${_quathinge_found_double}: "
                    "${QUATHINGE_BULLET_DESCRIPTION}; ${_quathinge_extras}")
