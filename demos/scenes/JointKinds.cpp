@@ -101,13 +101,13 @@ btCollisionShape* makeShape(Shape shape, const btVector3& halfExtents, const std
 // The compound of `parts`; its pieces go to `owned` (a compound does not own its children).
 btCollisionShape* makeCompound(const std::vector<ShapePart>& parts, std::vector<std::unique_ptr<btCollisionShape>>& owned)
 {
-	auto* compound = new btCompoundShape(true, int(parts.size()));
+	std::unique_ptr<btCompoundShape> compound(new btCompoundShape(true, int(parts.size())));
 	for (const ShapePart& part : parts)
 	{
 		owned.emplace_back(makeShape(part.shape, part.halfExtents, part.points));
 		compound->addChildShape(part.local, owned.back().get());
 	}
-	return compound;
+	return compound.release();
 }
 
 btCollisionShape* makeShape(const BodySpec& spec, std::vector<std::unique_ptr<btCollisionShape>>& owned)

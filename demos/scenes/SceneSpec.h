@@ -20,7 +20,7 @@ namespace scenes
 /// A body's collision shape (it also gives the inertia when BodySpec::localInertia is zero).
 enum class Shape
 {
-	Box,      ///< btBoxShape(halfExtents)
+	Box,         ///< btBoxShape(halfExtents)
 	Capsule,     ///< btCapsuleShape along local y: radius halfExtents.x, total length 2·halfExtents.y (caps included)
 	Sphere,      ///< btSphereShape(halfExtents.x)
 	Cylinder,    ///< btCylinderShape along local y: radius halfExtents.x, half height halfExtents.y
