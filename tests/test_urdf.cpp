@@ -1,5 +1,5 @@
 // The URDF loader reads what pybullet's importer reads (capsules, lower > upper as no limit, pybullet's limit
-// defaults, STL meshes), refuses what it cannot represent with the file, the part and the reason, and the robots from
+// defaults, STL and OBJ meshes), refuses what it cannot represent with the file, the part and the reason, and the robots from
 // Bullet's data/ (demos/models) run with the quaternion kinds and are held by the stabilizer.
 #ifdef QUATHINGE_HAVE_SCENES
 #include "JointKinds.h"
@@ -242,7 +242,8 @@ TEST(Urdf, RefusesWhatItCannotRepresent)
 		{"spherical.urdf", robot("spherical", ""), {"shoulder", "spherical"}},
 		{"floating.urdf", robot("floating", ""), {"shoulder", "floating"}},
 		{"zero_axis.urdf", robot("continuous", "<axis xyz=\"0 0 0\"/>"), {"shoulder", "axis"}},
-		{"obj_mesh.urdf", robot("continuous", "", "<mesh filename=\"arm.obj\"/>"), {"arm", "arm.obj", "STL"}},
+		{"dae_mesh.urdf", robot("continuous", "", "<mesh filename=\"arm.dae\"/>"), {"arm", "arm.dae", "STL and OBJ"}},
+		{"missing_obj.urdf", robot("continuous", "", "<mesh filename=\"arm.obj\"/>"), {"arm", "arm.obj", "not found"}},
 		{"missing_mesh.urdf", robot("continuous", "", "<mesh filename=\"nowhere.stl\"/>"), {"arm", "nowhere.stl", "not found"}},
 		{"unknown_shape.urdf", robot("continuous", "", "<cone radius=\"0.1\" length=\"0.2\"/>"), {"urdfdom"}},
 		{"broken.urdf", "<robot name=\"x\"><link name=\"a\">", {"XML"}},
@@ -270,6 +271,24 @@ TEST(Urdf, RefusesWhatItCannotRepresent)
 	ASSERT_EQ(s.bodies[0].parts.size(), 1u);
 	EXPECT_EQ(s.bodies[0].parts[0].points.size(), 6u);
 	EXPECT_EQ(double(s.bodies[0].parts[0].points[5].z()), -1.0);  // −0.5 m scaled by 2
+
+	// an OBJ is a convex hull per group of faces ('g' and 'o' start one; indices from 1, negative from the end),
+	// each a piece at the <collision>'s pose
+	dir.write("arm.obj",
+			  "# two pieces\nv 0 0 0\nv 0.1 0 0\nv 0 0.1 0\nv 0 0 -0.5\n"
+			  "g first\nf 1 2 3\nf 1/1 2/2 4/4\no second\nv 0.2 0 0\nf -1//1 -2 -3\n");
+	const std::string objPath = dir.write("obj_mesh.urdf", robot("continuous", "", "<mesh filename=\"arm.obj\"/>"));
+	const SceneSpec o = urdfScene("obj", objPath);
+	ASSERT_TRUE(o.unavailable.empty()) << o.unavailable;
+	ASSERT_EQ(o.bodies.size(), 1u);
+	ASSERT_EQ(o.bodies[0].parts.size(), 2u);
+	EXPECT_EQ(o.bodies[0].parts[0].points.size(), 6u);
+	EXPECT_EQ(o.bodies[0].parts[1].points.size(), 3u);
+	EXPECT_EQ(double(o.bodies[0].parts[1].points[0].x()), double(btScalar(0.2)));  // index −1: the last vertex
+	EXPECT_TRUE(o.bodies[0].parts[0].local == o.bodies[0].parts[1].local);
+	const std::string badPath = dir.write("bad_obj.urdf", robot("continuous", "", "<mesh filename=\"bad.obj\"/>"));
+	dir.write("bad.obj", "v 0 0 0\nf 1 2 3\n");
+	expectRefused(urdfScene("bad", badPath), badPath, {"arm", "out of range"});
 }
 
 TEST(Urdf, BulletRobotsRunWithTheQuaternionKinds)

@@ -11,13 +11,15 @@
 // - every revolute or continuous joint a hinge; revolute with pybullet's limits: lower and upper default to 0 and −1,
 //   and lower > upper is no limit (continuous), as URDF2Bullet; a fixed joint a hinge locked at 0;
 // - every <collision> a piece of the body's compound shape: box, sphere, cylinder, capsule (pybullet's extension:
-//   the cylinder part `length` long, along z) and STL meshes (their vertices' convex hull, as pybullet does for a
-//   moving link). The scene has no ground and no contacts: the shapes are drawn. A link without <collision> is drawn
-//   as the box of its inertia.
+//   the cylinder part `length` long, along z; pybullet makes a cylinder a 32-sided hull unless asked for the implicit
+//   cylinder, which this is), STL meshes (their vertices' convex hull) and OBJ meshes (a convex hull per group of
+//   faces), as pybullet reads meshes for a moving link. The scene has no ground and no contacts: the shapes are
+//   drawn. A link without <collision> is drawn as the box of its inertia.
 // Anything else is refused, never dropped: a prismatic, planar, floating or spherical joint, a zero axis, a mesh that
-// is missing or not STL, a file urdfdom cannot parse (with urdfdom's own message) make the scene unavailable with the
-// file, the part and the reason. Not modelled (as pybullet's maximal-coordinate import): joint <dynamics> damping and
-// friction, effort and velocity limits, <mimic>; the description counts the joints that have them.
+// is missing or neither STL nor OBJ (Collada), a file urdfdom cannot parse or reports an error in (with urdfdom's own
+// message) make the scene unavailable with the file, the part and the reason. Not modelled (as pybullet's
+// maximal-coordinate import): joint <dynamics> damping and friction, effort and velocity limits, <mimic>; the
+// description counts the joints that have them.
 #include "SceneSpec.h"
 
 #ifdef QUATHINGE_HAVE_URDFDOM
@@ -267,6 +269,53 @@ std::vector<btVector3> readStl(const std::string& path, const btVector3& scale)
 	return points;
 }
 
+/// The convex pieces of a Wavefront OBJ file, as pybullet reads one for a moving link: the vertices of each group
+/// of faces ('g' and 'o' start a group) are one convex hull (m, the mesh's frame, times `scale`).
+std::vector<std::vector<btVector3>> readObj(const std::string& path, const btVector3& scale)
+{
+	std::ifstream file(path);
+	if (!file) throw Refusal("mesh file not found: " + path);
+	std::vector<btVector3> vertices;
+	std::vector<std::vector<btVector3>> groups(1);
+	std::string line;
+	for (int number = 1; std::getline(file, line); ++number)
+	{
+		std::istringstream in(line);
+		in.imbue(std::locale::classic());
+		std::string tag;
+		in >> tag;
+		if (tag == "v")
+		{
+			double x = 0, y = 0, z = 0;
+			if (!(in >> x >> y >> z))
+				throw Refusal("malformed OBJ vertex at line " + std::to_string(number) + " of " + path);
+			vertices.emplace_back(btScalar(x) * scale.x(), btScalar(y) * scale.y(), btScalar(z) * scale.z());
+		}
+		else if (tag == "f")
+		{
+			for (std::string corner; in >> corner;)
+			{
+				long index = 0;  // "v", "v/vt", "v//vn" or "v/vt/vn"; negative counts back from the last vertex
+				std::istringstream first(corner.substr(0, corner.find('/')));
+				const long count = long(vertices.size());
+				if (!(first >> index) || index == 0 || index > count || index < -count)
+					throw Refusal("OBJ face index out of range at line " + std::to_string(number) + " of " + path);
+				groups.back().push_back(vertices[size_t(index > 0 ? index - 1 : count + index)]);
+			}
+		}
+		else if ((tag == "g" || tag == "o") && !groups.back().empty())
+		{
+			groups.emplace_back();
+		}
+	}
+	if (groups.back().empty()) groups.pop_back();
+	if (groups.empty()) throw Refusal("mesh has no faces: " + path);
+	for (const std::vector<btVector3>& g : groups)
+		for (const btVector3& p : g)
+			if (!std::isfinite(double(p.length2()))) throw Refusal("mesh has a non-finite vertex: " + path);
+	return groups;
+}
+
 /// A mesh's file as pybullet finds it: package:// and file:// stripped, relative to the URDF's folder.
 std::string meshPath(const std::string& urdfPath, std::string name)
 {
@@ -277,8 +326,8 @@ std::string meshPath(const std::string& urdfPath, std::string name)
 	return (std::filesystem::path(urdfPath).parent_path() / p).string();
 }
 
-/// One <collision> as a piece of a compound shape, in the link's frame.
-ShapePart collisionPart(const urdf::Collision& collision, bool capsule, const std::string& urdfPath)
+/// One <collision> as pieces of a compound shape, in the link's frame: one piece, or one per convex part of an OBJ.
+std::vector<ShapePart> collisionParts(const urdf::Collision& collision, bool capsule, const std::string& urdfPath)
 {
 	ShapePart part;
 	part.local = toBullet(collision.origin);
@@ -318,17 +367,29 @@ ShapePart collisionPart(const urdf::Collision& collision, bool capsule, const st
 			std::string extension = std::filesystem::path(file).extension().string();
 			std::transform(extension.begin(), extension.end(), extension.begin(),
 						   [](unsigned char ch) { return char(std::tolower(ch)); });
-			if (extension != ".stl") throw Refusal("mesh '" + mesh->filename + "': only STL meshes are read");
+			const btVector3 scale(btScalar(mesh->scale.x), btScalar(mesh->scale.y), btScalar(mesh->scale.z));
 			part.shape = Shape::ConvexHull;
-			part.points = readStl(file, btVector3(btScalar(mesh->scale.x), btScalar(mesh->scale.y), btScalar(mesh->scale.z)));
-			break;
+			if (extension == ".stl")
+			{
+				part.points = readStl(file, scale);
+				break;
+			}
+			if (extension != ".obj")
+				throw Refusal("mesh '" + mesh->filename + "': only STL and OBJ meshes are read");
+			std::vector<ShapePart> parts;
+			for (std::vector<btVector3>& points : readObj(file, scale))
+			{
+				parts.push_back(part);
+				parts.back().points = std::move(points);
+			}
+			return parts;
 		}
 		default: throw Refusal("unknown collision geometry type " + std::to_string(int(geometry->type)));
 	}
 	for (int k = 0; k < 3; ++k)
 		if (part.shape != Shape::ConvexHull && !(part.halfExtents[k] > 0 && std::isfinite(double(part.halfExtents[k]))))
 			throw Refusal("collision geometry with a size that is not positive and finite");
-	return part;
+	return {part};
 }
 
 /// The scene of a parsed, preprocessed model (throws Refusal naming the part it cannot represent).
@@ -363,7 +424,7 @@ void buildScene(SceneSpec& s, const urdf::ModelInterface& model, const Preproces
 		std::vector<ShapePart> parts;  // in the link's frame
 		for (size_t c = 0; c < link->collision_array.size(); ++c) try
 		{
-			parts.push_back(collisionPart(*link->collision_array[c], capsules[c], path));
+			for (ShapePart& part : collisionParts(*link->collision_array[c], capsules[c], path)) parts.push_back(std::move(part));
 		}
 		catch (const Refusal& e)
 		{
