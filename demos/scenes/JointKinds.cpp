@@ -75,19 +75,45 @@ void trackTheta(MeasuredJoint& j)
 	j.thetaValid = true;
 }
 
-btCollisionShape* makeShape(const BodySpec& spec)
+btCollisionShape* makeShape(Shape shape, const btVector3& halfExtents, const std::vector<btVector3>& points)
 {
-	switch (spec.shape)
+	switch (shape)
 	{
 		case Shape::Capsule:
 		{
-			const btScalar radius = spec.halfExtents.x();
-			return new btCapsuleShape(radius, btMax(btScalar(0), 2 * (spec.halfExtents.y() - radius)));
+			const btScalar radius = halfExtents.x();
+			return new btCapsuleShape(radius, btMax(btScalar(0), 2 * (halfExtents.y() - radius)));
 		}
-		case Shape::Sphere: return new btSphereShape(spec.halfExtents.x());
+		case Shape::Sphere: return new btSphereShape(halfExtents.x());
+		case Shape::Cylinder: return new btCylinderShape(halfExtents);
+		case Shape::ConvexHull:
+		{
+			if (points.empty()) throw std::runtime_error("scene: a convex hull shape without points");
+			auto* hull = new btConvexHullShape(&points[0].x(), int(points.size()), sizeof(btVector3));
+			hull->optimizeConvexHull();  // the hull's vertices only (a mesh has many inside)
+			return hull;
+		}
 		case Shape::Box: break;
 	}
-	return new btBoxShape(spec.halfExtents);
+	return new btBoxShape(halfExtents);
+}
+
+// The compound of `parts`; its pieces go to `owned` (a compound does not own its children).
+btCollisionShape* makeCompound(const std::vector<ShapePart>& parts, std::vector<std::unique_ptr<btCollisionShape>>& owned)
+{
+	std::unique_ptr<btCompoundShape> compound(new btCompoundShape(true, int(parts.size())));
+	for (const ShapePart& part : parts)
+	{
+		owned.emplace_back(makeShape(part.shape, part.halfExtents, part.points));
+		compound->addChildShape(part.local, owned.back().get());
+	}
+	return compound.release();
+}
+
+btCollisionShape* makeShape(const BodySpec& spec, std::vector<std::unique_ptr<btCollisionShape>>& owned)
+{
+	if (!spec.parts.empty()) return makeCompound(spec.parts, owned);
+	return makeShape(spec.shape, spec.halfExtents, {});
 }
 
 btTransform jointFrame(const btVector3& pivot, const btVector3& axis)
@@ -140,7 +166,13 @@ Simulation::Simulation(const SceneSpec& scene, Kind kind)
 			m_ownedBodies.emplace_back(new btRigidBody(0, nullptr, m_shapes.back().get()));
 			m_world->addRigidBody(m_ownedBodies.back().get());
 		}
-		m_shapes.emplace_back(new btSphereShape(btScalar(0.01)));
+		// the world anchor: a small sphere, or the shapes fixed to the world (drawn; it takes part in no contact)
+		if (scene.worldParts.empty()) m_shapes.emplace_back(new btSphereShape(btScalar(0.01)));
+		else
+		{
+			btCollisionShape* world = makeCompound(scene.worldParts, m_shapes);
+			m_shapes.emplace_back(world);
+		}
 		btCollisionShape* anchorShape = m_shapes.back().get();
 		m_ownedBodies.emplace_back(new btRigidBody(0, nullptr, anchorShape));
 		btRigidBody* anchor = m_ownedBodies.back().get();  // "the world" for joints with parent −1
@@ -148,7 +180,8 @@ Simulation::Simulation(const SceneSpec& scene, Kind kind)
 		m_world->addRigidBody(anchor, 0, 0);
 		for (const BodySpec& spec : scene.bodies)
 		{
-			m_shapes.emplace_back(makeShape(spec));
+			btCollisionShape* shape = makeShape(spec, m_shapes);
+			m_shapes.emplace_back(shape);
 			btVector3 inertia = spec.localInertia;
 			if (spec.mass > 0 && inertia.isZero()) m_shapes.back()->calculateLocalInertia(spec.mass, inertia);
 			btRigidBody::btRigidBodyConstructionInfo info(spec.mass, nullptr, m_shapes.back().get(), inertia);

@@ -58,7 +58,8 @@ std::vector<std::string> sceneNames()
 	return {"pendulum",      "chain10",       "chain30",         "chain100",       "heavy10",  "heavy100",
 			"heavy1000",     "heavy10000",    "double_pendulum", "rotor100",       "rotor1000", "flipped90",
 			"flipped179",    "flipped180",    "limit_hit",       "limit_across_pi", "limit_wide", "motor_lift",
-			"four_bar",      "ragdoll",       "spider",          "kuka_iiwa",      "pendulum5"};
+			"four_bar",      "ragdoll",       "spider",          "kuka_iiwa",      "pendulum5", "humanoid",
+			"base_2",        "quadruped",     "two_joint_robot"};
 }
 
 std::string defaultModelsDir()
@@ -101,6 +102,11 @@ SceneSpec makeScene(const std::string& name, unsigned seed, const std::string& m
 	if (name == "spider") return spiderScene(modelsDir);
 	if (name == "kuka_iiwa") return urdfScene(name, modelsDir + "/kuka_iiwa_model.urdf");
 	if (name == "pendulum5") return urdfScene(name, modelsDir + "/pendulum5.urdf");
+	// robots from Bullet's data/ (demos/models/NOTICE.md), read as pybullet reads them
+	if (name == "humanoid") return urdfScene(name, modelsDir + "/humanoid.urdf");
+	if (name == "base_2") return urdfScene(name, modelsDir + "/Base_2.urdf");
+	if (name == "quadruped") return urdfScene(name, modelsDir + "/quadruped.urdf");
+	if (name == "two_joint_robot") return urdfScene(name, modelsDir + "/TwoJointRobot_w_fixedJoints.urdf");
 	if (name.size() > 5 && name.compare(name.size() - 5, 5, ".urdf") == 0) return urdfScene(name, name);
 	throw std::invalid_argument("makeScene: name: unknown scene '" + name + "'");
 }

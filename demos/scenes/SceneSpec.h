@@ -20,9 +20,20 @@ namespace scenes
 /// A body's collision shape (it also gives the inertia when BodySpec::localInertia is zero).
 enum class Shape
 {
-	Box,      ///< btBoxShape(halfExtents)
-	Capsule,  ///< btCapsuleShape along local y: radius halfExtents.x, total length 2·halfExtents.y (caps included)
-	Sphere    ///< btSphereShape(halfExtents.x)
+	Box,         ///< btBoxShape(halfExtents)
+	Capsule,     ///< btCapsuleShape along local y: radius halfExtents.x, total length 2·halfExtents.y (caps included)
+	Sphere,      ///< btSphereShape(halfExtents.x)
+	Cylinder,    ///< btCylinderShape along local y: radius halfExtents.x, half height halfExtents.y
+	ConvexHull   ///< btConvexHullShape of ShapePart::points (a mesh's vertices); only as a ShapePart
+};
+
+/// One piece of a body's compound collision shape (a URDF <collision> element).
+struct ShapePart
+{
+	Shape shape = Shape::Box;
+	btVector3 halfExtents = btVector3(0, 0, 0);          ///< m (see Shape)
+	btTransform local = btTransform::getIdentity();      ///< the piece's pose in its body's frame
+	std::vector<btVector3> points;                       ///< Shape::ConvexHull: the vertices (m, the piece's frame)
 };
 
 struct BodySpec
@@ -36,6 +47,8 @@ struct BodySpec
 	btVector3 linearVelocity = btVector3(0, 0, 0);         ///< m/s
 	btVector3 angularVelocity = btVector3(0, 0, 0);        ///< rad/s (world)
 	bool collides = false;                                   ///< take part in contacts (ragdoll on the ground)
+	/// When not empty, the body's collision shape is the compound of these (`shape` and `halfExtents` then unused).
+	std::vector<ShapePart> parts;
 };
 
 enum class Drive
@@ -83,9 +96,12 @@ struct SceneSpec
 	double duration = 5;          ///< s simulated by default
 	bool conservative = false;    ///< energy should be conserved (no drives, limits, contacts or damping)
 	bool ground = false;          ///< a static ground plane at y = 0
+	/// Shapes fixed to the world, drawn with it and without contacts (a URDF's root link, which is the world).
+	std::vector<ShapePart> worldParts;
 	Reference reference = Reference::FineStep;
 	double exactPeriod = 0;       ///< s, for Reference::PendulumPeriod
-	/// For scenes loaded from files: a reason the scene cannot run here (a missing file); empty when it can.
+	/// For scenes loaded from files: a reason the scene cannot run here (a missing file, a part the loader cannot
+	/// represent: the file, the part and why); empty when it can.
 	std::string unavailable;
 	/// For scenes that are a file rather than a description (spider.bullet): builds the bodies and stock hinges
 	/// into a world; the kinds then convert the hinges. Empty for described scenes.

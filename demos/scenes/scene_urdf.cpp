@@ -1,12 +1,29 @@
-// Robots from URDF (urdfdom): every link with an <inertial> a body at the zero configuration, with the mass and the
-// principal moments of its inertia tensor (diagonalized: the body frame is the inertial frame turned onto the
-// principal axes); every revolute or continuous joint a hinge (revolute: with its limits), a fixed joint a hinge
-// locked at 0; the root link is the world. Each body's shape is a box sized from its inertia (the box of that mass
-// with those principal moments); the scene has no ground and no contacts, so it only draws and sizes the body.
-// A missing or unparsable file, or a build without urdfdom, makes the scene unavailable with the reason.
+// Robots from URDF, read as pybullet's importer reads them (Bullet's examples/Importers/ImportURDFDemo), with urdfdom
+// for the model and tinyxml2 for what urdfdom does not accept:
+// - every link but the root a body at the zero configuration, with the mass and the principal moments of its inertia
+//   tensor (diagonalized: the body frame is the inertial frame turned onto the principal axes). A link without
+//   <inertial> gets pybullet's default (1 kg, moments 1 kg·m², frame at the link). The inertia is the file's (as
+//   pybullet with URDF_USE_INERTIA_FROM_FILE; without that flag pybullet takes it from the collision shapes). A
+//   massless link (mass 0: a converted multi-axis joint's intermediate link, as in Bullet's humanoid.urdf) cannot be
+//   a rigid body, so it gets a stand-in (kMasslessMassFraction of the lightest link's mass and of the smallest
+//   moment), said in the description;
+// - the root link is the world (the robot hangs from its base); its collision shapes are drawn with the world;
+// - every revolute or continuous joint a hinge; revolute with pybullet's limits: lower and upper default to 0 and −1,
+//   and lower > upper is no limit (continuous), as URDF2Bullet; a fixed joint a hinge locked at 0;
+// - every <collision> a piece of the body's compound shape: box, sphere, cylinder, capsule (pybullet's extension:
+//   the cylinder part `length` long, along z; pybullet makes a cylinder a 32-sided hull unless asked for the implicit
+//   cylinder, which this is), STL meshes (their vertices' convex hull) and OBJ meshes (a convex hull per group of
+//   faces), as pybullet reads meshes for a moving link. The scene has no ground and no contacts: the shapes are
+//   drawn. A link without <collision> is drawn as the box of its inertia.
+// Anything else is refused, never dropped: a prismatic, planar, floating or spherical joint, a zero axis, a mesh that
+// is missing or neither STL nor OBJ (Collada), a file urdfdom cannot parse or reports an error in (with urdfdom's own
+// message) make the scene unavailable with the file, the part and the reason. Not modelled (as pybullet's
+// maximal-coordinate import): joint <dynamics> damping and friction, effort and velocity limits, <mimic>; the
+// description counts the joints that have them.
 #include "SceneSpec.h"
 
 #ifdef QUATHINGE_HAVE_URDFDOM
+#include <tinyxml2.h>
 #include <urdf_parser/urdf_parser.h>
 #ifdef QUATHINGE_HAVE_CONSOLE_BRIDGE
 #include <console_bridge/console.h>
@@ -14,10 +31,17 @@
 #endif
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <filesystem>
 #include <fstream>
+#include <limits>
 #include <map>
+#include <mutex>
 #include <sstream>
+#include <stdexcept>
 
 namespace quathinge
 {
@@ -44,11 +68,470 @@ btVector3 boxFromInertia(double mass, const btVector3& moments)
 #ifdef QUATHINGE_HAVE_URDFDOM
 namespace
 {
+/// A massless link's stand-in: this fraction of the lightest link's mass and of the model's smallest moment of
+/// inertia. Smaller is nearer the massless model but harder for the maximal-coordinate solver: humanoid.urdf, 3 s at
+/// 60 Hz, stock's max separation is 11.7 m at 0.01, 1.13 m at 0.1, 0.14 m at 1 (quaternion+stab ≤ 1.5e-6 m in all).
+const double kMasslessMassFraction = 0.1;
+
+/// A part of the model the loader cannot represent: the scene is refused with this message.
+struct Refusal : std::runtime_error
+{
+	using std::runtime_error::runtime_error;
+};
+
 btTransform toBullet(const urdf::Pose& pose)
 {
 	return btTransform(btQuaternion(btScalar(pose.rotation.x), btScalar(pose.rotation.y), btScalar(pose.rotation.z),
 									btScalar(pose.rotation.w)),
 					   btVector3(btScalar(pose.position.x), btScalar(pose.position.y), btScalar(pose.position.z)));
+}
+
+/// What the XML says that urdfdom would reject or read differently, and the XML urdfdom then reads.
+struct Preprocessed
+{
+	std::string xml;
+	std::map<std::string, std::vector<bool>> capsule;  ///< per link, per <collision> in order: a <capsule>
+	/// per joint with <limit>: pybullet's lower and upper (absent: 0 and −1; urdfdom reads an absent bound as 0)
+	std::map<std::string, std::pair<double, double>> limits;
+	std::vector<std::string> inertial;  ///< the links with an <inertial> element
+};
+
+double attributeOr(const tinyxml2::XMLElement& e, const char* name, double fallback)
+{
+	const char* text = e.Attribute(name);
+	if (!text) return fallback;
+	std::istringstream in(text);
+	in.imbue(std::locale::classic());
+	double value = fallback;
+	in >> value;
+	return value;
+}
+
+/// A vector attribute as pybullet reads it (the first three numbers of three or more; a mesh's single scale
+/// number for all three); left as it is when it does not read as numbers (urdfdom then says what is wrong).
+void normalizeVector(tinyxml2::XMLElement& e, const char* attribute, bool scalarForAll)
+{
+	const char* text = e.Attribute(attribute);
+	if (!text) return;
+	std::istringstream in(text);
+	in.imbue(std::locale::classic());
+	std::vector<std::string> words;
+	for (std::string w; in >> w;) words.push_back(w);
+	for (const std::string& w : words)
+	{
+		std::istringstream number(w);
+		number.imbue(std::locale::classic());
+		double value = 0;
+		if (!(number >> value) || !number.eof()) return;
+	}
+	if (words.size() == 1 && scalarForAll) words = {words[0], words[0], words[0]};
+	if (words.size() <= 3) return;
+	e.SetAttribute(attribute, (words[0] + " " + words[1] + " " + words[2]).c_str());
+}
+
+void normalizeVectors(tinyxml2::XMLElement& e)
+{
+	const std::string name = e.Name();
+	if (name == "origin")
+	{
+		normalizeVector(e, "xyz", false);
+		normalizeVector(e, "rpy", false);
+	}
+	else if (name == "axis") normalizeVector(e, "xyz", false);
+	else if (name == "box") normalizeVector(e, "size", false);
+	else if (name == "mesh") normalizeVector(e, "scale", true);
+	else if (name == "inertia" && e.Attribute("ixx") && e.Attribute("iyy") && e.Attribute("izz") &&
+			 !(e.Attribute("ixy") && e.Attribute("ixz") && e.Attribute("iyz")))
+	{
+		for (const char* product : {"ixy", "ixz", "iyz"}) e.SetAttribute(product, 0);  // pybullet: all three 0
+	}
+	for (tinyxml2::XMLElement* child = e.FirstChildElement(); child; child = child->NextSiblingElement())
+		normalizeVectors(*child);
+}
+
+/// Reads the XML as pybullet does where urdfdom differs: <capsule> becomes a <cylinder> (remembered, so the shape
+/// stays a capsule), a <limit> gets urdfdom's required effort and velocity (0, pybullet's default; neither is
+/// modelled), pybullet's limit defaults are kept, a top-level material defined again is dropped (urdfdom refuses
+/// it), vectors and inertias are read as pybullet reads them (normalizeVectors), and a joint type no hinge can be is
+/// refused by name.
+Preprocessed preprocess(const std::string& text)
+{
+	tinyxml2::XMLDocument doc;
+	if (doc.Parse(text.c_str(), text.size()) != tinyxml2::XML_SUCCESS)
+		throw Refusal(std::string("not well-formed XML: ") + doc.ErrorStr());
+	Preprocessed out;
+	tinyxml2::XMLElement* robot = doc.FirstChildElement("robot");
+	if (!robot) throw Refusal("no <robot> element");
+	auto capsuleToCylinder = [](tinyxml2::XMLElement* holder) {
+		tinyxml2::XMLElement* geometry = holder->FirstChildElement("geometry");
+		tinyxml2::XMLElement* shape = geometry ? geometry->FirstChildElement() : nullptr;
+		if (!shape || std::strcmp(shape->Name(), "capsule") != 0) return false;
+		shape->SetName("cylinder");  // same attributes (radius, length)
+		return true;
+	};
+	// a material defined twice at the top level: urdfdom refuses the file, pybullet takes it (materials only colour
+	// visuals, which are not used): the later definitions go
+	std::vector<std::string> materials;
+	for (tinyxml2::XMLElement* m = robot->FirstChildElement("material"); m;)
+	{
+		tinyxml2::XMLElement* next = m->NextSiblingElement("material");
+		const std::string name = m->Attribute("name") ? m->Attribute("name") : "";
+		if (std::find(materials.begin(), materials.end(), name) != materials.end()) robot->DeleteChild(m);
+		else materials.push_back(name);
+		m = next;
+	}
+	for (tinyxml2::XMLElement* link = robot->FirstChildElement("link"); link; link = link->NextSiblingElement("link"))
+	{
+		const char* name = link->Attribute("name");
+		std::vector<bool>& capsules = out.capsule[name ? name : ""];
+		if (link->FirstChildElement("inertial")) out.inertial.push_back(name ? name : "");
+		for (tinyxml2::XMLElement* c = link->FirstChildElement("collision"); c; c = c->NextSiblingElement("collision"))
+			capsules.push_back(capsuleToCylinder(c));
+		for (tinyxml2::XMLElement* v = link->FirstChildElement("visual"); v; v = v->NextSiblingElement("visual"))
+			capsuleToCylinder(v);  // visuals are not used: only so that urdfdom accepts the file
+	}
+	for (tinyxml2::XMLElement* joint = robot->FirstChildElement("joint"); joint; joint = joint->NextSiblingElement("joint"))
+	{
+		const std::string name = joint->Attribute("name") ? joint->Attribute("name") : "";
+		const std::string type = joint->Attribute("type") ? joint->Attribute("type") : "";
+		if (type == "prismatic" || type == "planar" || type == "floating" || type == "spherical")
+			throw Refusal("joint '" + name + "': type " + type + " cannot be represented (hinges only)");
+		if (tinyxml2::XMLElement* limit = joint->FirstChildElement("limit"))
+		{
+			out.limits[name] = {attributeOr(*limit, "lower", 0), attributeOr(*limit, "upper", -1)};
+			if (!limit->Attribute("effort")) limit->SetAttribute("effort", 0);
+			if (!limit->Attribute("velocity")) limit->SetAttribute("velocity", 0);
+		}
+	}
+	normalizeVectors(*robot);
+	tinyxml2::XMLPrinter printer;
+	doc.Print(&printer);
+	out.xml = printer.CStr();
+	return out;
+}
+
+#ifdef QUATHINGE_HAVE_CONSOLE_BRIDGE
+/// Collects urdfdom's error messages (so a refusal says what urdfdom found) while it is installed.
+class CollectErrors : public console_bridge::OutputHandler
+{
+public:
+	CollectErrors() { console_bridge::useOutputHandler(this); }
+	~CollectErrors() override { console_bridge::restorePreviousOutputHandler(); }
+	CollectErrors(const CollectErrors&) = delete;
+	CollectErrors& operator=(const CollectErrors&) = delete;
+	void log(const std::string& text, console_bridge::LogLevel level, const char*, int) override
+	{
+		if (level >= console_bridge::CONSOLE_BRIDGE_LOG_ERROR) messages += (messages.empty() ? "" : "; ") + text;
+	}
+	std::string messages;
+};
+#endif
+
+/// The vertices (m, the mesh's frame, times `scale`) of an STL file, binary or ASCII.
+std::vector<btVector3> readStl(const std::string& path, const btVector3& scale)
+{
+	std::ifstream file(path, std::ios::binary);
+	if (!file) throw Refusal("mesh file not found: " + path);
+	const std::string data((std::istreambuf_iterator<char>(file)), std::istreambuf_iterator<char>());
+	std::vector<btVector3> points;
+	uint32_t triangles = 0;
+	if (data.size() >= 84) std::memcpy(&triangles, data.data() + 80, 4);  // STL is little-endian, as this machine
+	if (data.size() >= 84 && data.size() == 84 + 50 * size_t(triangles))
+	{
+		for (size_t t = 0; t < triangles; ++t)
+			for (int v = 0; v < 3; ++v)
+			{
+				float xyz[3];
+				std::memcpy(xyz, data.data() + 84 + 50 * t + 12 * (1 + v), sizeof xyz);  // after the normal
+				points.emplace_back(btScalar(xyz[0]) * scale.x(), btScalar(xyz[1]) * scale.y(), btScalar(xyz[2]) * scale.z());
+			}
+	}
+	else if (data.compare(0, 5, "solid") == 0)
+	{
+		std::istringstream in(data);
+		in.imbue(std::locale::classic());
+		std::string word;
+		while (in >> word)
+			if (word == "vertex")
+			{
+				double x = 0, y = 0, z = 0;
+				if (!(in >> x >> y >> z)) throw Refusal("malformed ASCII STL vertex in " + path);
+				points.emplace_back(btScalar(x) * scale.x(), btScalar(y) * scale.y(), btScalar(z) * scale.z());
+			}
+	}
+	else
+	{
+		throw Refusal("not an STL file (binary size or ASCII 'solid' header): " + path);
+	}
+	if (points.size() < 4) throw Refusal("mesh has fewer than 4 vertices: " + path);
+	for (const btVector3& p : points)
+		if (!std::isfinite(double(p.length2()))) throw Refusal("mesh has a non-finite vertex: " + path);
+	return points;
+}
+
+/// The convex pieces of a Wavefront OBJ file, as pybullet reads one for a moving link: the vertices of each group
+/// of faces ('g' and 'o' start a group) are one convex hull (m, the mesh's frame, times `scale`).
+std::vector<std::vector<btVector3>> readObj(const std::string& path, const btVector3& scale)
+{
+	std::ifstream file(path);
+	if (!file) throw Refusal("mesh file not found: " + path);
+	std::vector<btVector3> vertices;
+	std::vector<std::vector<btVector3>> groups(1);
+	std::string line;
+	for (int number = 1; std::getline(file, line); ++number)
+	{
+		std::istringstream in(line);
+		in.imbue(std::locale::classic());
+		std::string tag;
+		in >> tag;
+		if (tag == "v")
+		{
+			double x = 0, y = 0, z = 0;
+			if (!(in >> x >> y >> z))
+				throw Refusal("malformed OBJ vertex at line " + std::to_string(number) + " of " + path);
+			vertices.emplace_back(btScalar(x) * scale.x(), btScalar(y) * scale.y(), btScalar(z) * scale.z());
+		}
+		else if (tag == "f")
+		{
+			for (std::string corner; in >> corner;)
+			{
+				long index = 0;  // "v", "v/vt", "v//vn" or "v/vt/vn"; negative counts back from the last vertex
+				std::istringstream first(corner.substr(0, corner.find('/')));
+				const long count = long(vertices.size());
+				if (!(first >> index) || index == 0 || index > count || index < -count)
+					throw Refusal("OBJ face index out of range at line " + std::to_string(number) + " of " + path);
+				groups.back().push_back(vertices[size_t(index > 0 ? index - 1 : count + index)]);
+			}
+		}
+		else if ((tag == "g" || tag == "o") && !groups.back().empty())
+		{
+			groups.emplace_back();
+		}
+	}
+	if (groups.back().empty()) groups.pop_back();
+	if (groups.empty()) throw Refusal("mesh has no faces: " + path);
+	for (const std::vector<btVector3>& g : groups)
+		for (const btVector3& p : g)
+			if (!std::isfinite(double(p.length2()))) throw Refusal("mesh has a non-finite vertex: " + path);
+	return groups;
+}
+
+/// A mesh's file as pybullet finds it: package:// and file:// stripped, relative to the URDF's folder.
+std::string meshPath(const std::string& urdfPath, std::string name)
+{
+	for (const char* prefix : {"package://", "file://"})
+		if (name.rfind(prefix, 0) == 0) name.erase(0, std::strlen(prefix));
+	const std::filesystem::path p(name);
+	if (p.is_absolute()) return name;
+	return (std::filesystem::path(urdfPath).parent_path() / p).string();
+}
+
+/// One <collision> as pieces of a compound shape, in the link's frame: one piece, or one per convex part of an OBJ.
+std::vector<ShapePart> collisionParts(const urdf::Collision& collision, bool capsule, const std::string& urdfPath)
+{
+	ShapePart part;
+	part.local = toBullet(collision.origin);
+	// URDF's cylinders and capsules lie along z, the scene's along y: turn y onto z (+90° about x)
+	const btTransform yToZ(btQuaternion(btVector3(1, 0, 0), SIMD_HALF_PI));
+	const urdf::Geometry* geometry = collision.geometry.get();
+	if (!geometry) throw Refusal("a <collision> without geometry");
+	switch (geometry->type)
+	{
+		case urdf::Geometry::SPHERE:
+		{
+			const btScalar r = btScalar(static_cast<const urdf::Sphere*>(geometry)->radius);
+			part.shape = Shape::Sphere;
+			part.halfExtents = btVector3(r, r, r);
+			break;
+		}
+		case urdf::Geometry::BOX:
+		{
+			const urdf::Vector3& dim = static_cast<const urdf::Box*>(geometry)->dim;
+			part.shape = Shape::Box;
+			part.halfExtents = btVector3(btScalar(dim.x / 2), btScalar(dim.y / 2), btScalar(dim.z / 2));
+			break;
+		}
+		case urdf::Geometry::CYLINDER:
+		{
+			const auto* c = static_cast<const urdf::Cylinder*>(geometry);
+			const btScalar r = btScalar(c->radius), half = btScalar(c->length / 2);
+			part.shape = capsule ? Shape::Capsule : Shape::Cylinder;
+			part.halfExtents = btVector3(r, capsule ? half + r : half, r);  // a capsule's half length with its caps
+			part.local = part.local * yToZ;
+			break;
+		}
+		case urdf::Geometry::MESH:
+		{
+			const auto* mesh = static_cast<const urdf::Mesh*>(geometry);
+			const std::string file = meshPath(urdfPath, mesh->filename);
+			std::string extension = std::filesystem::path(file).extension().string();
+			std::transform(extension.begin(), extension.end(), extension.begin(),
+						   [](unsigned char ch) { return char(std::tolower(ch)); });
+			const btVector3 scale(btScalar(mesh->scale.x), btScalar(mesh->scale.y), btScalar(mesh->scale.z));
+			part.shape = Shape::ConvexHull;
+			if (extension == ".stl")
+			{
+				part.points = readStl(file, scale);
+				break;
+			}
+			if (extension != ".obj")
+				throw Refusal("mesh '" + mesh->filename + "': only STL and OBJ meshes are read");
+			std::vector<ShapePart> parts;
+			for (std::vector<btVector3>& points : readObj(file, scale))
+			{
+				parts.push_back(part);
+				parts.back().points = std::move(points);
+			}
+			return parts;
+		}
+		default: throw Refusal("unknown collision geometry type " + std::to_string(int(geometry->type)));
+	}
+	for (int k = 0; k < 3; ++k)
+		if (part.shape != Shape::ConvexHull && !(part.halfExtents[k] > 0 && std::isfinite(double(part.halfExtents[k]))))
+			throw Refusal("collision geometry with a size that is not positive and finite");
+	return {part};
+}
+
+/// The scene of a parsed, preprocessed model (throws Refusal naming the part it cannot represent).
+void buildScene(SceneSpec& s, const urdf::ModelInterface& model, const Preprocessed& pre, const std::string& path)
+{
+	// the massless links' stand-in: a fraction of the lightest link's mass and of the smallest positive moment
+	double lightestMass = 0, smallestMoment = 0;
+	for (const auto& entry : model.links_)
+	{
+		const urdf::Inertial* in = entry.second->inertial.get();
+		if (!in || !(in->mass > 0) || entry.second == model.getRoot()) continue;
+		if (lightestMass == 0 || in->mass < lightestMass) lightestMass = in->mass;
+		for (double moment : {in->ixx, in->iyy, in->izz})
+			if (moment > 0 && (smallestMoment == 0 || moment < smallestMoment)) smallestMoment = moment;
+	}
+	// Forward kinematics at the zero configuration, root first.
+	std::map<std::string, btTransform> linkPose;
+	std::map<std::string, int> bodyOf;
+	std::vector<urdf::LinkConstSharedPtr> queue{model.getRoot()};
+	linkPose[model.getRoot()->name] = btTransform::getIdentity();
+	int standIns = 0;
+	for (size_t i = 0; i < queue.size(); ++i)
+	{
+		const urdf::LinkConstSharedPtr link = queue[i];
+		const btTransform pose = linkPose[link->name];
+		const std::vector<bool>& capsules = pre.capsule.at(link->name);
+		if (capsules.size() != link->collision_array.size())
+			throw Refusal("link '" + link->name + "': urdfdom read " + std::to_string(link->collision_array.size()) +
+						  " of its " + std::to_string(capsules.size()) + " <collision> elements");
+		if (!link->inertial && std::find(pre.inertial.begin(), pre.inertial.end(), link->name) != pre.inertial.end())
+			throw Refusal("link '" + link->name + "': urdfdom did not read its <inertial>");
+		std::vector<ShapePart> parts;  // in the link's frame
+		for (size_t c = 0; c < link->collision_array.size(); ++c) try
+		{
+			for (ShapePart& part : collisionParts(*link->collision_array[c], capsules[c], path)) parts.push_back(std::move(part));
+		}
+		catch (const Refusal& e)
+		{
+			throw Refusal("link '" + link->name + "' <collision> " + std::to_string(c + 1) + ": " + e.what());
+		}
+		if (link == model.getRoot())
+		{
+			s.worldParts = parts;
+		}
+		else
+		{
+			BodySpec body;
+			btTransform inertialFrame = btTransform::getIdentity();  // the principal frame in the link's frame
+			if (!link->inertial)
+			{
+				body.mass = 1;  // pybullet's default for a link without <inertial>
+				body.localInertia = btVector3(1, 1, 1);
+			}
+			else if (link->inertial->mass > 0)
+			{
+				const urdf::Inertial& in = *link->inertial;
+				btMatrix3x3 tensor(btScalar(in.ixx), btScalar(in.ixy), btScalar(in.ixz), btScalar(in.ixy), btScalar(in.iyy),
+								   btScalar(in.iyz), btScalar(in.ixz), btScalar(in.iyz), btScalar(in.izz));
+				// I = R D Rᵀ: `tensor` becomes D, `principal` is R, the principal axes (its columns) in the inertial frame
+				btMatrix3x3 principal;
+				tensor.diagonalize(principal, btScalar(1e-9), 30);
+				body.mass = btScalar(in.mass);
+				body.localInertia = btVector3(tensor[0][0], tensor[1][1], tensor[2][2]);
+				inertialFrame = toBullet(in.origin) * btTransform(principal);
+			}
+			else if (link->inertial->mass == 0 && lightestMass > 0 && smallestMoment > 0)
+			{
+				const btScalar moment = btScalar(kMasslessMassFraction * smallestMoment);
+				body.mass = btScalar(kMasslessMassFraction * lightestMass);
+				body.localInertia = btVector3(moment, moment, moment);
+				inertialFrame = toBullet(link->inertial->origin);
+				++standIns;
+			}
+			else
+			{
+				throw Refusal("link '" + link->name + "': mass " + std::to_string(link->inertial->mass) +
+							  (lightestMass > 0 && smallestMoment > 0 ? " is negative or not a number"
+																	   : " and no link has mass and inertia"));
+			}
+			for (int k = 0; k < 3; ++k)
+				if (!(body.localInertia[k] >= 0))
+					throw Refusal("link '" + link->name + "': a principal moment of inertia is negative or not a number");
+			body.halfExtents = boxFromInertia(double(body.mass), body.localInertia);
+			body.pose = pose * inertialFrame;
+			for (ShapePart& part : parts) part.local = inertialFrame.inverse() * part.local;
+			body.parts = parts;
+			s.bodies.push_back(body);
+			bodyOf[link->name] = int(s.bodies.size()) - 1;
+		}
+		for (const urdf::JointSharedPtr& joint : link->child_joints)
+		{
+			linkPose[joint->child_link_name] = pose * toBullet(joint->parent_to_joint_origin_transform);
+			queue.push_back(model.getLink(joint->child_link_name));
+		}
+	}
+	int damped = 0, mimics = 0;
+	for (const auto& entry : model.joints_)
+	{
+		const urdf::Joint& joint = *entry.second;
+		const std::string who = "joint '" + joint.name + "'";
+		if (joint.type != urdf::Joint::REVOLUTE && joint.type != urdf::Joint::CONTINUOUS && joint.type != urdf::Joint::FIXED)
+			throw Refusal(who + ": a joint type that no hinge can represent");
+		if (!bodyOf.count(joint.child_link_name)) throw Refusal(who + ": its child link is not in the tree");
+		JointSpec j;
+		j.parent = bodyOf.count(joint.parent_link_name) ? bodyOf[joint.parent_link_name] : -1;
+		j.child = bodyOf[joint.child_link_name];
+		const btTransform frame = linkPose[joint.child_link_name];
+		j.pivot = frame.getOrigin();
+		btVector3 axis(btScalar(joint.axis.x), btScalar(joint.axis.y), btScalar(joint.axis.z));
+		if (joint.type == urdf::Joint::FIXED) axis = btVector3(1, 0, 0);  // locked: any axis
+		else if (!(axis.length2() > 0) || !std::isfinite(double(axis.length2())))
+			throw Refusal(who + ": axis is zero or not finite");
+		j.axis = (frame.getBasis() * axis).normalized();
+		if (joint.type == urdf::Joint::FIXED)
+		{
+			j.hasLimit = true;  // locked
+		}
+		else if (joint.type == urdf::Joint::REVOLUTE)
+		{
+			const auto limit = pre.limits.find(joint.name);
+			if (limit == pre.limits.end()) throw Refusal(who + ": revolute without <limit>");
+			j.hasLimit = limit->second.first <= limit->second.second;  // lower > upper: no limit, as URDF2Bullet
+			if (j.hasLimit)
+			{
+				j.lower = btScalar(limit->second.first);
+				j.upper = btScalar(limit->second.second);
+			}
+		}
+		if (joint.dynamics && (joint.dynamics->damping != 0 || joint.dynamics->friction != 0)) ++damped;
+		if (joint.mimic) ++mimics;
+		s.joints.push_back(j);
+	}
+	if (s.joints.empty()) throw Refusal("no revolute, continuous or fixed joint");
+	if (standIns > 0)
+	{
+		std::ostringstream say;
+		say << "; " << standIns << " massless links given a stand-in (" << kMasslessMassFraction
+			<< " of the lightest link's mass and of the smallest moment)";
+		s.description += say.str();
+	}
+	if (damped > 0) s.description += "; joint damping/friction not modelled (" + std::to_string(damped) + " joints)";
+	if (mimics > 0) s.description += "; <mimic> not modelled (" + std::to_string(mimics) + " joints)";
 }
 }  // namespace
 
@@ -56,7 +539,7 @@ SceneSpec urdfScene(const std::string& name, const std::string& path)
 {
 	SceneSpec s;
 	s.name = name;
-	s.description = "robot from URDF " + path + " released from its zero configuration";
+	s.description = "robot from URDF " + path + " released from its zero configuration, root link fixed to the world";
 	s.gravity = btVector3(0, 0, -10);  // URDF convention: z up
 	s.duration = 3;
 	std::ifstream file(path);
@@ -67,75 +550,42 @@ SceneSpec urdfScene(const std::string& name, const std::string& path)
 	}
 	std::stringstream text;
 	text << file.rdbuf();
-#ifdef QUATHINGE_HAVE_CONSOLE_BRIDGE
-	console_bridge::setLogLevel(console_bridge::CONSOLE_BRIDGE_LOG_ERROR);  // not a warning per undefined material
-#endif
-	urdf::ModelInterfaceSharedPtr model = urdf::parseURDF(text.str());
-	if (!model || !model->getRoot())
+	try
 	{
-		s.unavailable = "URDF file could not be parsed: " + path;
+		const Preprocessed pre = preprocess(text.str());
+		urdf::ModelInterfaceSharedPtr model;
+		std::string urdfdomSays;
+		{
+			static std::mutex parsing;  // console_bridge's handler is global: one parse at a time
+			const std::lock_guard<std::mutex> lock(parsing);
+#ifdef QUATHINGE_HAVE_CONSOLE_BRIDGE
+			CollectErrors errors;  // not a warning per undefined material on the console, the errors in the refusal
+			model = urdf::parseURDF(pre.xml);
+			urdfdomSays = errors.messages;
+#else
+			model = urdf::parseURDF(pre.xml);
+#endif
+		}
+		// urdfdom reports some parts it cannot read and goes on without them: any error refuses the file
+		if (!model || !model->getRoot() || !urdfdomSays.empty())
+			throw Refusal("urdfdom cannot parse it" + (urdfdomSays.empty() ? std::string() : ": " + urdfdomSays));
+		try
+		{
+			buildScene(s, *model, pre, path);
+		}
+		catch (const Refusal& e)  // what urdfdom said (e.g. of a <collision> it dropped) explains it
+		{
+			throw Refusal(e.what() + (urdfdomSays.empty() ? std::string() : " (urdfdom: " + urdfdomSays + ")"));
+		}
+	}
+	catch (const Refusal& e)
+	{
+		s.bodies.clear();
+		s.joints.clear();
+		s.worldParts.clear();
+		s.unavailable = "URDF " + path + ": " + e.what();
 		return s;
 	}
-	// Forward kinematics at the zero configuration, root first.
-	std::map<std::string, btTransform> linkPose;
-	std::map<std::string, int> bodyOf;
-	std::vector<urdf::LinkConstSharedPtr> queue{model->getRoot()};
-	linkPose[model->getRoot()->name] = btTransform::getIdentity();
-	for (size_t i = 0; i < queue.size(); ++i)
-	{
-		const urdf::LinkConstSharedPtr link = queue[i];
-		const btTransform pose = linkPose[link->name];
-		if (link->inertial && link != model->getRoot() && link->inertial->mass > 0)
-		{
-			const urdf::Inertial& in = *link->inertial;
-			btMatrix3x3 tensor(btScalar(in.ixx), btScalar(in.ixy), btScalar(in.ixz), btScalar(in.ixy), btScalar(in.iyy),
-							   btScalar(in.iyz), btScalar(in.ixz), btScalar(in.iyz), btScalar(in.izz));
-			// I = R D Rᵀ: `tensor` becomes D, `principal` is R, the principal axes (its columns) in the inertial frame
-			btMatrix3x3 principal;
-			tensor.diagonalize(principal, btScalar(1e-9), 30);
-			BodySpec body;
-			body.mass = btScalar(in.mass);
-			body.localInertia = btVector3(tensor[0][0], tensor[1][1], tensor[2][2]);
-			body.halfExtents = boxFromInertia(in.mass, body.localInertia);
-			body.pose = pose * toBullet(in.origin) * btTransform(principal);
-			s.bodies.push_back(body);
-			bodyOf[link->name] = int(s.bodies.size()) - 1;
-		}
-		for (const urdf::JointSharedPtr& joint : link->child_joints)
-		{
-			const btTransform childPose = pose * toBullet(joint->parent_to_joint_origin_transform);
-			linkPose[joint->child_link_name] = childPose;
-			queue.push_back(model->getLink(joint->child_link_name));
-		}
-	}
-	for (const auto& entry : model->joints_)
-	{
-		const urdf::JointSharedPtr& joint = entry.second;
-		if (!bodyOf.count(joint->child_link_name)) continue;
-		if (joint->type != urdf::Joint::REVOLUTE && joint->type != urdf::Joint::CONTINUOUS &&
-			joint->type != urdf::Joint::FIXED)
-			continue;
-		JointSpec j;
-		j.parent = bodyOf.count(joint->parent_link_name) ? bodyOf[joint->parent_link_name] : -1;
-		j.child = bodyOf[joint->child_link_name];
-		const btTransform frame = linkPose[joint->child_link_name];
-		j.pivot = frame.getOrigin();
-		btVector3 axis(btScalar(joint->axis.x), btScalar(joint->axis.y), btScalar(joint->axis.z));
-		if (axis.length2() == 0) axis = btVector3(1, 0, 0);
-		j.axis = (frame.getBasis() * axis).normalized();
-		if (joint->type == urdf::Joint::FIXED)
-		{
-			j.hasLimit = true;  // locked
-		}
-		else if (joint->type == urdf::Joint::REVOLUTE && joint->limits)
-		{
-			j.hasLimit = true;
-			j.lower = btScalar(joint->limits->lower);
-			j.upper = btScalar(joint->limits->upper);
-		}
-		s.joints.push_back(j);
-	}
-	if (s.joints.empty()) s.unavailable = "URDF has no revolute joint between bodies with inertia: " + path;
 	// no limits, no drives, no contacts: energy is conserved (a stop can take energy out)
 	s.conservative = std::none_of(s.joints.begin(), s.joints.end(), [](const JointSpec& j) { return j.hasLimit; });
 	return s;
@@ -146,7 +596,7 @@ SceneSpec urdfScene(const std::string& name, const std::string& path)
 	SceneSpec s;
 	s.name = name;
 	s.description = "robot from URDF " + path;
-	s.unavailable = "built without urdfdom (liburdfdom-dev): cannot read " + path;
+	s.unavailable = "built without urdfdom and tinyxml2 (liburdfdom-dev, libtinyxml2-dev): cannot read " + path;
 	(void)boxFromInertia;
 	return s;
 }
