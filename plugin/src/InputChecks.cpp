@@ -40,14 +40,17 @@ void pivot(const char* fn, const char* param, const btVector3& value)
 		fail(fn, (std::string(param) + " distance from the centre of mass (m)").c_str(), "must be at most 1e6", value.length());
 }
 
-btVector3 unitAxis(const char* fn, const char* param, const btVector3& axis)
+btVector3 direction(const char* fn, const char* param, const btVector3& axis)
 {
 	finite(fn, param, axis);
 	const btScalar length = axis.length();
-	if (length == 0) fail(fn, (std::string(param) + " must not be the zero vector").c_str());
-	if (btFabs(length - 1) > kUnitTolerance)
-		fail(fn, (std::string(param) + " length").c_str(), "must be 1 (a unit axis)", length);
-	return axis / length;
+	if (length >= SIMD_EPSILON && length <= btScalar(1) / SIMD_EPSILON) return axis / length;
+	// scaled by its largest component first, so a tiny axis (1e-30, whose squared length underflows) or a huge one
+	// still normalizes
+	const btScalar largest = btMax(btFabs(axis.x()), btMax(btFabs(axis.y()), btFabs(axis.z())));
+	if (largest == 0) fail(fn, (std::string(param) + " must not be the zero vector").c_str());
+	const btVector3 scaled = axis / largest;
+	return scaled / scaled.length();
 }
 
 bool isRigidFrame(const btTransform& frame)

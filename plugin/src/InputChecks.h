@@ -19,8 +19,9 @@ void finite(const char* fn, const char* param, btScalar value);
 void finite(const char* fn, const char* param, const btVector3& value);
 /// A pivot (m, in a body's frame): finite and within kMaxPivotDistance of the body's centre of mass.
 void pivot(const char* fn, const char* param, const btVector3& value);
-/// Finite, non-zero and of unit length within kUnitTolerance; returns it normalized exactly.
-btVector3 unitAxis(const char* fn, const char* param, const btVector3& axis);
+/// A direction: finite and non-zero, of any length (as stock accepts any axis; Godot scales it by the body's scale);
+/// returns it normalized.
+btVector3 direction(const char* fn, const char* param, const btVector3& axis);
 /// Origin a valid pivot, orthonormal right-handed basis (within kUnitTolerance).
 void rigidFrame(const char* fn, const char* param, const btTransform& frame);
 bool isRigidFrame(const btTransform& frame);
@@ -30,8 +31,8 @@ void inRange(const char* fn, const char* param, btScalar value, btScalar lo, boo
 void nonNegative(const char* fn, const char* param, btScalar value);  // ≥ 0, may be +∞
 void positive(const char* fn, const char* param, btScalar value);     // > 0, may be +∞
 
-/// How far from unit a given axis or frame column may be: 1e-4 (relative), about 800 float ulps, so axes typed as
-/// decimals or normalized in float pass and a wrong axis (a scaled or unnormalized one) does not.
+/// How far from unit a given frame column may be: 1e-4 (relative), about 800 float ulps, so frames typed as decimals
+/// or normalized in float pass and a sheared or scaled one does not.
 const btScalar kUnitTolerance = btScalar(1e-4);
 /// How far a pivot may be from its body's centre of mass: 1e6 m. Farther, the solver's products (r × ω, J·v) leave
 /// float range (found by the fuzzer with a pivot at 3e38 m), and no Bullet scene is that large.

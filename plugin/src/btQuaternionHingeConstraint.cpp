@@ -88,8 +88,8 @@ btQuaternionHingeConstraint::btQuaternionHingeConstraint(btRigidBody& rbA, btRig
 	checkBodies(fn, rbA, rbB);
 	check::pivot(fn, "pivotInA", pivotInA);
 	check::pivot(fn, "pivotInB", pivotInB);
-	const btVector3 axisA = check::unitAxis(fn, "axisInA", axisInA);
-	const btVector3 axisB = check::unitAxis(fn, "axisInB", axisInB);
+	const btVector3 axisA = check::direction(fn, "axisInA", axisInA);
+	const btVector3 axisB = check::direction(fn, "axisInB", axisInB);
 
 	// Frames chosen exactly as btHingeConstraint chooses them, so that the zero angle is the same.
 	btVector3 axisA1 = rbA.getCenterOfMassTransform().getBasis().getColumn(0);
@@ -125,7 +125,7 @@ btQuaternionHingeConstraint::btQuaternionHingeConstraint(btRigidBody& rbA, const
 {
 	const char* fn = "btQuaternionHingeConstraint(rbA, pivotInA, axisInA)";
 	check::pivot(fn, "pivotInA", pivotInA);
-	const btVector3 axisA = check::unitAxis(fn, "axisInA", axisInA);
+	const btVector3 axisA = check::direction(fn, "axisInA", axisInA);
 
 	// As btHingeConstraint: body B is the world; its frame is A's frame as it is now, in world coordinates.
 	btVector3 axisA1, axisA2;
@@ -193,9 +193,10 @@ btQuaternionHingeConstraint::btQuaternionHingeConstraint(btRigidBody& rbA, btRig
 	}
 	if (settings.flags & BT_QHINGE_FLAGS_ERP_STOP) setParam(BT_CONSTRAINT_STOP_ERP, settings.stopErp);
 	if (settings.flags & BT_QHINGE_FLAGS_CFM_STOP) setParam(BT_CONSTRAINT_STOP_CFM, settings.stopCfm);
-	if (settings.hasLimit)
-		setLimit(settings.lowerLimit, settings.upperLimit, settings.limitSoftness, settings.limitBiasFactor,
-				 settings.limitRelaxationFactor);
+	// A limit that does not act (settings.hasLimit false) keeps its values, as stock keeps a freed limit's.
+	setLimit(settings.lowerLimit, settings.upperLimit, settings.limitSoftness, settings.limitBiasFactor,
+			 settings.limitRelaxationFactor);
+	if (!settings.hasLimit) removeLimit();
 	switch (settings.driveMode)
 	{
 		case BT_QHINGE_DRIVE_VELOCITY:
@@ -334,7 +335,7 @@ void btQuaternionHingeConstraint::setFrames(const btTransform& frameA, const btT
 
 void btQuaternionHingeConstraint::setAxis(btVector3& axisInA)
 {
-	const btVector3 axisA = check::unitAxis("btQuaternionHingeConstraint::setAxis", "axisInA", axisInA);
+	const btVector3 axisA = check::direction("btQuaternionHingeConstraint::setAxis", "axisInA", axisInA);
 	// As btHingeConstraint::setAxis: A's frame gets the new axis; B's frame is derived from the current pose.
 	btVector3 axisA1, axisA2;
 	btPlaneSpace1(axisA, axisA1, axisA2);
@@ -398,10 +399,13 @@ void btQuaternionHingeConstraint::setMotorTarget(btScalar targetAngle, btScalar 
 	check::angle(fn, "targetAngle", targetAngle);
 	check::finite(fn, "dt", dt);
 	check::positive(fn, "dt", dt);
-	// As stock: clamp the target into the limit, then the velocity that gets there in dt. Stock compares with the
-	// wrapped angle; here the multi-turn angle is used when it is tracked, so targets beyond ±π work.
-	if (m_settings.hasLimit) targetAngle = btMax(m_settings.lowerLimit, btMin(m_settings.upperLimit, targetAngle));
-	const btScalar current = m_multiTurnValid ? m_multiTurnAngle : getHingeAngle();
+	// As stock: clamp the target into a limit with a range (stock's btAngularLimit::fit acts only when high > low),
+	// then the velocity that gets there in dt from the angle of the bodies' current pose. Stock compares with the
+	// wrapped angle; here with the multi-turn angle when it is tracked (continued to the current pose), so targets
+	// beyond ±π work.
+	if (hasLimit()) targetAngle = btMax(m_settings.lowerLimit, btMin(m_settings.upperLimit, targetAngle));
+	const btScalar raw = getHingeAngle();
+	const btScalar current = m_multiTurnValid ? continueAngle(m_multiTurnAngle, raw) : raw;
 	const btScalar velocity = (targetAngle - current) / dt;
 	// a denormal dt (1e-38 s) turns any angle difference into an infinite velocity: refused, nothing changed
 	if (!std::isfinite(velocity))
@@ -414,13 +418,14 @@ void btQuaternionHingeConstraint::setMotorTarget(const btQuaternion& qAinB, btSc
 	const char* fn = "btQuaternionHingeConstraint::setMotorTarget";
 	for (int i = 0; i < 4; ++i) check::finite(fn, "qAinB", qAinB[i]);
 	if (qAinB.length2() == 0) check::fail(fn, "qAinB must not be the zero quaternion");
-	// As stock: the rotation in constraint space, its hinge (twist) part, and its angle. The twist angle of
-	// frameB⁻¹ qAinB frameA about ẑ is −θ of the pose it describes (A relative to B), which is stock's angle.
+	// As stock: the rotation in constraint space, its hinge (twist) part about ẑ, and that angle as the target. The
+	// twist of frameB⁻¹ qAinB frameA is the angle of A relative to B (−θ of the pose it describes), which is
+	// getHingeAngle() without useReferenceFrameA; stock passes it on unchanged with useReferenceFrameA too (where
+	// getHingeAngle() is θ), and so does this.
 	btQuaternion qConstraint =
 		m_settings.frameInB.getRotation().inverse() * qAinB.normalized() * m_settings.frameInA.getRotation();
 	qConstraint.normalize();
-	const btScalar theta = hingeAngle(qConstraint.inverse());  // θ of B relative to A (Q11)
-	setMotorTarget(userSign(m_settings.useReferenceFrameA) * theta, dt);
+	setMotorTarget(hingeAngle(qConstraint), dt);
 }
 
 void btQuaternionHingeConstraint::setServoTarget(btScalar targetAngle, btScalar maxSpeed, btScalar maxTorque)
@@ -463,32 +468,37 @@ void btQuaternionHingeConstraint::setMaxFrictionTorque(btScalar maxTorque)
 void btQuaternionHingeConstraint::setLimit(btScalar low, btScalar high, btScalar softness, btScalar biasFactor,
 										   btScalar relaxationFactor)
 {
+	// Stock's meaning for everything stock accepts (btAngularLimit::set): low > high is a limit that never acts (a
+	// free joint; stock's URDF importer and Godot pass such pairs for "no limit"), low == high locks the hinge, and
+	// softness, bias and relaxation are any finite numbers. Refused: NaN or infinite factors, a NaN end, and the ends
+	// that have no angle (low at +∞, high at −∞) or no float precision left (a finite low above 1e6 rad, or high below
+	// −1e6 rad, with low ≤ high).
 	const char* fn = "btQuaternionHingeConstraint::setLimit";
 	if (std::isnan(low)) check::fail(fn, "low", "must not be NaN", low);
 	if (std::isnan(high)) check::fail(fn, "high", "must not be NaN", high);
-	// A side at or beyond ±BT_LARGE_FLOAT (±SIMD_INFINITY, ±inf) means no stop on that side, stored as ±inf.
-	if (low >= BT_LARGE_FLOAT) check::fail(fn, "low", "must be below +infinity", low);
-	if (high <= -BT_LARGE_FLOAT) check::fail(fn, "high", "must be above -infinity", high);
-	if (low <= -BT_LARGE_FLOAT) low = -std::numeric_limits<btScalar>::infinity();
-	else check::angle(fn, "low", low);
-	if (high >= BT_LARGE_FLOAT) high = std::numeric_limits<btScalar>::infinity();
-	else check::angle(fn, "high", high);
-	if (low > high)
+	check::finite(fn, "softness", softness);
+	check::finite(fn, "biasFactor", biasFactor);
+	check::finite(fn, "relaxationFactor", relaxationFactor);
+	const bool acts = low <= high;
+	if (acts)
 	{
-		std::ostringstream message;
-		message << "low (" << low << ") > high (" << high << "); call removeLimit() to free the joint";
-		check::fail(fn, message.str().c_str());
+		// A side at or beyond ±BT_LARGE_FLOAT (±SIMD_INFINITY, ±inf) or beyond ±1e6 rad (SDF's ±1e16: 160 000 turns,
+		// which no stop can mean) has no stop: stored as ±inf.
+		if (low >= BT_LARGE_FLOAT) check::fail(fn, "low", "must be below +infinity", low);
+		if (high <= -BT_LARGE_FLOAT) check::fail(fn, "high", "must be above -infinity", high);
+		if (low < -check::kMaxAngle) low = -std::numeric_limits<btScalar>::infinity();
+		else check::angle(fn, "low", low);
+		if (high > check::kMaxAngle) high = std::numeric_limits<btScalar>::infinity();
+		else check::angle(fn, "high", high);
 	}
-	check::inRange(fn, "softness", softness, 0, false, 1, true);
-	check::inRange(fn, "biasFactor", biasFactor, 0, true, 1, true);
-	check::inRange(fn, "relaxationFactor", relaxationFactor, 0, true, 1, true);
-	m_settings.hasLimit = true;
+	m_settings.hasLimit = acts;
 	m_settings.lowerLimit = low;
 	m_settings.upperLimit = high;
 	m_settings.limitSoftness = softness;
 	m_settings.limitBiasFactor = biasFactor;
 	m_settings.limitRelaxationFactor = relaxationFactor;
-	rebranchForLimit();
+	if (acts) rebranchForLimit();
+	else m_limitSign = 0;
 }
 
 void btQuaternionHingeConstraint::removeLimit()
@@ -586,44 +596,54 @@ void btQuaternionHingeConstraint::testLimit(const btTransform& transA, const btT
 
 void btQuaternionHingeConstraint::setParam(int num, btScalar value, int axis)
 {
+	// Stock's meaning for axis −1 and 5 (btHingeConstraint::setParam treats both as "the joint"): its normal ERP acts
+	// on every row, its normal CFM on the motor row only, STOP_* on the limit row. Axes 0..4 (which stock ignores)
+	// reach the linear and quaternion rows one kind at a time. Any finite value, as stock.
 	const char* fn = "btQuaternionHingeConstraint::setParam";
-	if (axis < -1 || axis > 5) check::fail(fn, "axis", "must be -1 (all rows) or 0..5", btScalar(axis));
+	if (axis < -1 || axis > 5) check::fail(fn, "axis", "must be -1 (the joint) or 0..5", btScalar(axis));
+	const char* name = num == BT_CONSTRAINT_ERP		 ? "value (ERP)"
+					   : num == BT_CONSTRAINT_CFM	 ? "value (CFM)"
+					   : num == BT_CONSTRAINT_STOP_ERP ? "value (STOP_ERP)"
+												   : "value (STOP_CFM)";
+	if (num != BT_CONSTRAINT_ERP && num != BT_CONSTRAINT_CFM && num != BT_CONSTRAINT_STOP_ERP &&
+		num != BT_CONSTRAINT_STOP_CFM)
+		check::fail(fn, "num", "must be BT_CONSTRAINT_ERP, _STOP_ERP, _CFM or _STOP_CFM", btScalar(num));
+	if (!std::isfinite(value)) check::fail(fn, name, "must be finite", value);
+	const bool joint = axis == -1 || axis == kAxialKind;
 	switch (num)
 	{
 		case BT_CONSTRAINT_ERP:
-		case BT_CONSTRAINT_CFM:
 		{
-			const bool erp = num == BT_CONSTRAINT_ERP;
-			if (erp) check::inRange(fn, "value (ERP)", value, 0, true, 1, true);
-			else check::inRange(fn, "value (CFM)", value, 0, true, 1, false);
-			const int first = axis < 0 ? 0 : axis, last = axis < 0 ? 5 : axis;
+			const int first = joint ? 0 : axis, last = joint ? 5 : axis;
 			for (int kind = first; kind <= last; ++kind)
 			{
-				(erp ? m_settings.rowErp : m_settings.rowCfm)[kind] = value;
-				m_settings.flags |= (erp ? BT_QHINGE_FLAGS_ERP_ROW0 : BT_QHINGE_FLAGS_CFM_ROW0) << kind;
+				m_settings.rowErp[kind] = value;
+				m_settings.flags |= BT_QHINGE_FLAGS_ERP_ROW0 << kind;
 			}
-			m_settings.flags |= erp ? BT_QHINGE_FLAGS_ERP_NORM : BT_QHINGE_FLAGS_CFM_NORM;
+			m_settings.flags |= BT_QHINGE_FLAGS_ERP_NORM;
+			break;
+		}
+		case BT_CONSTRAINT_CFM:
+		{
+			const int kind = joint ? kAxialKind : axis;
+			m_settings.rowCfm[kind] = value;
+			m_settings.flags |= (BT_QHINGE_FLAGS_CFM_ROW0 << kind) | BT_QHINGE_FLAGS_CFM_NORM;
 			break;
 		}
 		case BT_CONSTRAINT_STOP_ERP:
 		case BT_CONSTRAINT_STOP_CFM:
-		{
-			if (axis != -1 && axis != 5)
-				check::fail(fn, "axis", "must be -1 or 5 for STOP_ERP/STOP_CFM (the limit row)", btScalar(axis));
+			if (!joint) check::fail(fn, "axis", "must be -1 or 5 for STOP_ERP/STOP_CFM (the limit row)", btScalar(axis));
 			if (num == BT_CONSTRAINT_STOP_ERP)
 			{
-				check::inRange(fn, "value (STOP_ERP)", value, 0, true, 1, true);
 				m_settings.stopErp = value;
 				m_settings.flags |= BT_QHINGE_FLAGS_ERP_STOP;
 			}
 			else
 			{
-				check::inRange(fn, "value (STOP_CFM)", value, 0, true, 1, false);
 				m_settings.stopCfm = value;
 				m_settings.flags |= BT_QHINGE_FLAGS_CFM_STOP;
 			}
 			break;
-		}
 		default:
 			check::fail(fn, "num", "must be BT_CONSTRAINT_ERP, _STOP_ERP, _CFM or _STOP_CFM", btScalar(num));
 	}
@@ -631,33 +651,25 @@ void btQuaternionHingeConstraint::setParam(int num, btScalar value, int axis)
 
 btScalar btQuaternionHingeConstraint::getParam(int num, int axis) const
 {
-	const char* fn = "btQuaternionHingeConstraint::getParam";
-	if (axis < -1 || axis > 5) check::fail(fn, "axis", "must be -1 or 0..5", btScalar(axis));
-	const int kind = axis < 0 ? kAxialKind : axis;  // −1 reads the value btHingeConstraint's default axis (5) has
-	int flag = 0;
-	btScalar value = 0;
+	// As stock: the value set, else 0 (stock's members start at 0); an unknown num or axis gives 0 (stock asserts in
+	// a debug build and returns 0). Never throws: a const getter.
+	if (axis < -1 || axis > 5) return 0;
+	const int kind = axis < 0 ? kAxialKind : axis;
 	switch (num)
 	{
 		case BT_CONSTRAINT_ERP:
-			flag = BT_QHINGE_FLAGS_ERP_ROW0 << kind;
-			value = m_settings.rowErp[kind];
-			break;
+			return (m_settings.flags & (BT_QHINGE_FLAGS_ERP_ROW0 << kind)) ? m_settings.rowErp[kind] : btScalar(0);
 		case BT_CONSTRAINT_CFM:
-			flag = BT_QHINGE_FLAGS_CFM_ROW0 << kind;
-			value = m_settings.rowCfm[kind];
-			break;
+			return (m_settings.flags & (BT_QHINGE_FLAGS_CFM_ROW0 << kind)) ? m_settings.rowCfm[kind] : btScalar(0);
 		case BT_CONSTRAINT_STOP_ERP:
+			if (kind != kAxialKind) return 0;
+			return (m_settings.flags & BT_QHINGE_FLAGS_ERP_STOP) ? m_settings.stopErp : btScalar(0);
 		case BT_CONSTRAINT_STOP_CFM:
-			if (axis != -1 && axis != 5) check::fail(fn, "axis", "must be -1 or 5 for STOP_ERP/STOP_CFM", btScalar(axis));
-			flag = num == BT_CONSTRAINT_STOP_ERP ? BT_QHINGE_FLAGS_ERP_STOP : BT_QHINGE_FLAGS_CFM_STOP;
-			value = num == BT_CONSTRAINT_STOP_ERP ? m_settings.stopErp : m_settings.stopCfm;
-			break;
+			if (kind != kAxialKind) return 0;
+			return (m_settings.flags & BT_QHINGE_FLAGS_CFM_STOP) ? m_settings.stopCfm : btScalar(0);
 		default:
-			check::fail(fn, "num", "must be BT_CONSTRAINT_ERP, _STOP_ERP, _CFM or _STOP_CFM", btScalar(num));
+			return 0;
 	}
-	if (!(m_settings.flags & flag))
-		check::fail(fn, "num", "has no value set for this axis (the solver's global value is in effect)", btScalar(num));
-	return value;
 }
 
 btScalar btQuaternionHingeConstraint::rowErp(int kind, btScalar globalErp) const

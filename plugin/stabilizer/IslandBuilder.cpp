@@ -41,7 +41,7 @@ void scanWorld(btDynamicsWorld& world, bool projectLimits, std::vector<Signature
 		if (isMovable(*e.body[1])) e.flags |= SignatureEntry::kMovableB;
 		if (!(e.flags & (SignatureEntry::kMovableA | SignatureEntry::kMovableB))) continue;
 		if (hinge->getAngularOnly()) e.flags |= SignatureEntry::kAngularOnly;
-		if (projectLimits && hinge->hasLimit()) e.flags |= SignatureEntry::kLimitSlot;
+		if (projectLimits && hinge->getSettings().hasLimit) e.flags |= SignatureEntry::kLimitSlot;
 		out.push_back(e);
 	}
 }

@@ -81,17 +81,19 @@ struct btQuaternionHingeSettings
 	/// give the same rows (documented in README, "Differences").
 	bool useFrameOffset = true;
 
-	/// Limit on the multi-turn angle (rad). Active when hasLimit. lowerLimit ≤ upperLimit; the range may be wider than
-	/// 2π and may straddle ±π. A limit with lowerLimit == upperLimit locks the hinge.
+	/// Limit on the multi-turn angle (rad). hasLimit: the limit acts (then lowerLimit ≤ upperLimit; the range may be
+	/// wider than 2π and may straddle ±π; lowerLimit == upperLimit locks the hinge). Without it the values are kept as
+	/// given (stock's never-limited hinge reports 1 and −1, and so do these defaults).
 	bool hasLimit = false;
-	btScalar lowerLimit = 0;
-	btScalar upperLimit = 0;
-	/// (0, 1]. The limit row is switched on speculatively once the angle is within (1 − softness)·(upper − lower)/2 of a
-	/// stop; until the stop is reached it only forbids crossing it within the step. 1: row only at or past the stop.
+	btScalar lowerLimit = 1;
+	btScalar upperLimit = -1;
+	/// Any finite value, used within [0, 1]: the limit row is switched on speculatively once the angle is within
+	/// (1 − softness)·(upper − lower)/2 of a stop; until the stop is reached it only forbids crossing it within the
+	/// step. 1: row only at or past the stop. (Stock stores it and never uses it.)
 	btScalar limitSoftness = btScalar(0.9);
-	/// [0, 1]. Multiplies the limit row's error correction and bounce, as btHingeConstraint's biasFactor.
+	/// Any finite value (as stock; 0.3 by default). Multiplies the limit row's error correction and bounce.
 	btScalar limitBiasFactor = btScalar(0.3);
-	/// [0, 1]. Bounce on hitting a stop (btHingeConstraint's relaxationFactor); restitution = bias · relaxation.
+	/// Any finite value (as stock): bounce on hitting a stop when > 0; restitution = bias · relaxation.
 	btScalar limitRelaxationFactor = btScalar(1.0);
 
 	btQuaternionHingeDriveMode driveMode = BT_QHINGE_DRIVE_OFF;
@@ -155,12 +157,13 @@ public:
 							const btVector3& angVelA, const btVector3& angVelB);
 	void updateRHS(btScalar /*timeStep*/) {}
 
-	/// ERP / STOP_ERP / CFM / STOP_CFM. axis −1: every row kind (ERP, CFM) or the limit row (STOP_*). axis 0..2: the
-	/// linear rows, 3..4: the angular rows, 5: the axial drive row (STOP_* accept only −1 and 5). ERP in [0, 1],
-	/// CFM in [0, 1) (Bullet's solver diverges on a row with CFM ≥ 1). Anything else throws.
+	/// ERP / STOP_ERP / CFM / STOP_CFM, any finite value (as stock). axis −1 or 5 means what it means for stock:
+	/// ERP for every row, CFM for the axial drive (motor) and friction rows, STOP_* for the limit row. Beyond stock,
+	/// axis 0..2 sets the linear rows, 3..4 the angular rows (stock ignores these axes); STOP_* accept only −1 and 5.
+	/// A NaN/Inf value, another num or an axis outside −1..5 is refused.
 	virtual void setParam(int num, btScalar value, int axis = -1);
-	/// The value set for (num, axis); for axis −1 the value set for all rows. Throws if num or axis is invalid, or if
-	/// no value was set for that row (the global value is then in effect).
+	/// The value set for (num, axis), or 0 when none was set (as stock, whose unset values are 0; the solver's global
+	/// value is then in effect). Never fails: an unknown num or axis returns 0.
 	virtual btScalar getParam(int num, int axis = -1) const;
 	virtual int getFlags() const { return m_settings.flags; }
 
@@ -183,7 +186,8 @@ public:
 	const btTransform& getAFrame() const { return m_settings.frameInA; }
 	const btTransform& getBFrame() const { return m_settings.frameInB; }
 	void setFrames(const btTransform& frameA, const btTransform& frameB);
-	/// As btHingeConstraint::setAxis: new hinge axis in A (non-zero), B's frame re-derived from the current pose.
+	/// As btHingeConstraint::setAxis: new hinge axis in A (finite, non-zero, any length: normalized), B's frame
+	/// re-derived from the current pose.
 	void setAxis(btVector3 & axisInA);
 
 	void setAngularOnly(bool angularOnly) { m_settings.angularOnly = angularOnly; }
@@ -201,21 +205,25 @@ public:
 	/// As stock: sets the motor's target velocity so that the angle reaches targetAngle (clamped to the limit) in dt.
 	/// Must be called every tick; setServoTarget holds an angle without that.
 	void setMotorTarget(btScalar targetAngle, btScalar dt);
-	/// qAinB: rotation of body A relative to body B, as stock.
+	/// qAinB: rotation of body A relative to body B, as stock: its twist about the hinge axis is the target angle
+	/// (also with useReferenceFrameA, where stock takes it unchanged although getHingeAngle() changes sign).
 	void setMotorTarget(const btQuaternion& qAinB, btScalar dt);
 	bool getEnableAngularMotor() const { return m_settings.driveMode == BT_QHINGE_DRIVE_VELOCITY; }
 	btScalar getMotorTargetVelocity() const { return m_settings.motorTargetVelocity; }
 	btScalar getMaxMotorImpulse() const { return m_settings.maxMotorImpulse; }
 
-	/// Limit on the multi-turn angle, low ≤ high (radians; may straddle ±π, may be wider than 2π). softness,
-	/// biasFactor, relaxationFactor as documented in btQuaternionHingeSettings. Throws on low > high (use
-	/// removeLimit() to free the joint) or on a value outside its range. If the current multi-turn angle is outside
-	/// [low, high], it is moved by whole turns to the branch nearest the range (so a stock-style range across ±π means
-	/// what it means for btHingeConstraint).
+	/// Limit on the multi-turn angle (radians; may straddle ±π, may be wider than 2π). As stock: low > high frees the
+	/// joint (the values are kept and reported), low == high locks it. An end beyond ±1e6 rad or at ±BT_LARGE_FLOAT
+	/// means no stop on that side. softness, biasFactor, relaxationFactor: any finite values, see
+	/// btQuaternionHingeSettings. If the current multi-turn angle is outside [low, high], it is moved by whole turns
+	/// to the branch nearest the range (so a stock-style range across ±π means what it means for btHingeConstraint).
 	void setLimit(btScalar low, btScalar high, btScalar softness = btScalar(0.9), btScalar biasFactor = btScalar(0.3),
 				  btScalar relaxationFactor = btScalar(1.0));
+	/// Frees the joint (as setLimit(1, -1) would, but keeping the ends).
 	void removeLimit();
-	bool hasLimit() const { return m_settings.hasLimit; }
+	/// Stock's answer: a limit with a range (high > low). A lock (low == high) acts but reports false, as stock's;
+	/// getSettings().hasLimit says whether any limit acts.
+	bool hasLimit() const { return m_settings.hasLimit && m_settings.upperLimit > m_settings.lowerLimit; }
 	btScalar getLowerLimit() const { return m_settings.lowerLimit; }
 	btScalar getUpperLimit() const { return m_settings.upperLimit; }
 	btScalar getLimitSoftness() const { return m_settings.limitSoftness; }
