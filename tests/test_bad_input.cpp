@@ -1,13 +1,13 @@
-// Bad input gets a clear error naming the parameter (std::invalid_argument) and never reaches the joint or the
-// solver; bad state from outside (a NaN velocity) disables the joint instead of spreading.
+// Bad input gets a clear error naming the parameter (std::invalid_argument, or the error callback in a build without
+// exceptions) and never reaches the joint or the solver; bad state from outside (a NaN velocity) disables the joint instead of spreading.
 #include "quathinge/btQuaternionHingeConstraint.h"
 #include "support/World.h"
 
+#include "support/Refusal.h"
 #include <gtest/gtest.h>
 
 #include <functional>
 #include <limits>
-#include <stdexcept>
 #include <string>
 
 namespace
@@ -15,18 +15,11 @@ namespace
 const btScalar kNaN = std::numeric_limits<btScalar>::quiet_NaN();
 const btScalar kInf = std::numeric_limits<btScalar>::infinity();
 
-// Expects `call` to throw std::invalid_argument whose message contains `parameter`.
+// Expects `call` to be refused with a message naming `parameter` (thrown with exceptions, reported through the error
+// callback without them: support/Refusal.h).
 void expectRefused(const std::function<void()>& call, const std::string& parameter)
 {
-	try
-	{
-		call();
-		ADD_FAILURE() << "accepted, expected a refusal naming " << parameter;
-	}
-	catch (const std::invalid_argument& e)
-	{
-		EXPECT_NE(std::string(e.what()).find(parameter), std::string::npos) << e.what() << " does not name " << parameter;
-	}
+	EXPECT_TRUE(qh_test::refused(call, parameter));
 }
 
 // Every field of two settings structs (frames exactly, scalars exactly).
@@ -288,4 +281,53 @@ TEST(BadInput, FrameEditedThroughAReferenceIsCheckedBeforeTheSolve)
 	EXPECT_EQ(info.m_numConstraintRows, 0);
 	EXPECT_EQ(j.getFault(), BT_QHINGE_FAULT_FRAME_EDITED_INVALID);
 	EXPECT_FALSE(j.isEnabled());
+}
+
+TEST(BadInput, RefusedConstructorYieldsASafeJoint)
+{
+	// With exceptions the constructor throws (no object); without, the object exists, is disabled, reports no rows
+	// and says why — and clearFault() does not bring it back.
+	Bodies s;
+	const btVector3 z(0, 0, 1), o(0, 0, 0);
+	if (qh_test::kExceptions)
+	{
+		EXPECT_REFUSED(btQuaternionHingeConstraint j(s.a, s.b, o, o, btVector3(0, 0, 0), z), "axisInA");
+		return;
+	}
+	qh_test::ErrorCapture errors;
+	btQuaternionHingeConstraint j(s.a, s.b, o, o, btVector3(0, 0, 0), z);
+	EXPECT_EQ(errors.count, 1);
+	EXPECT_NE(errors.first.find("axisInA"), std::string::npos) << errors.first;
+	EXPECT_EQ(j.getFault(), BT_QHINGE_FAULT_INVALID_ARGUMENT);
+	EXPECT_FALSE(j.isEnabled());
+	j.clearFault();
+	j.setEnabled(true);
+	btTypedConstraint::btConstraintInfo1 info;
+	j.getInfo1(&info);
+	EXPECT_EQ(info.m_numConstraintRows, 0);
+	EXPECT_EQ(j.getFault(), BT_QHINGE_FAULT_INVALID_ARGUMENT);
+	// a refused setter in a settings struct refuses the whole construction
+	btQuaternionHingeSettings settings;
+	settings.maxFrictionTorque = -1;
+	btQuaternionHingeConstraint k(s.a, s.b, settings);
+	EXPECT_EQ(errors.count, 2);
+	EXPECT_EQ(k.getFault(), BT_QHINGE_FAULT_INVALID_ARGUMENT);
+	EXPECT_EQ(k.getSettings().maxFrictionTorque, 0);
+}
+
+TEST(BadInput, DefaultErrorCallbackAndItsReplacement)
+{
+	// The callback is settable and readable; null restores the default (one line through printf).
+	void* user = nullptr;
+	EXPECT_EQ(btQuaternionHingeGetErrorCallback(&user), btQuaternionHingeDefaultErrorCallback);
+	int calls = 0;
+	btQuaternionHingeSetErrorCallback([](const char*, void* u) { ++*static_cast<int*>(u); }, &calls);
+	EXPECT_NE(btQuaternionHingeGetErrorCallback(&user), btQuaternionHingeDefaultErrorCallback);
+	EXPECT_EQ(user, &calls);
+	btQuaternionHingeSetErrorCallback(nullptr, nullptr);
+	EXPECT_EQ(btQuaternionHingeGetErrorCallback(&user), btQuaternionHingeDefaultErrorCallback);
+	EXPECT_EQ(user, nullptr);
+	testing::internal::CaptureStdout();
+	btQuaternionHingeDefaultErrorCallback("a message", nullptr);
+	EXPECT_EQ(testing::internal::GetCapturedStdout(), "QuatHinge: a message\n");
 }

@@ -67,9 +67,9 @@ bool isStaticLike(const btRigidBody& body)
 	return body.getInvMass() == 0 && body.getInvInertiaDiagLocal().isZero();
 }
 
-void checkBodies(const char* fn, const btRigidBody& rbA, const btRigidBody& rbB)
+bool checkBodies(const char* fn, const btRigidBody& rbA, const btRigidBody& rbB)
 {
-	if (&rbA == &rbB) check::fail(fn, "rbB is the same body as rbA (a joint needs two bodies)");
+	return &rbA != &rbB || check::fail(fn, "rbB is the same body as rbA (a joint needs two bodies)");
 }
 
 // The user angle α = σθ: σ = +1 with useReferenceFrameA, −1 without (btHingeConstraint::getHingeAngle's sign).
@@ -85,11 +85,14 @@ btQuaternionHingeConstraint::btQuaternionHingeConstraint(btRigidBody& rbA, btRig
 	: btTypedConstraint(QUATERNION_HINGE_CONSTRAINT_TYPE, rbA, rbB)
 {
 	const char* fn = "btQuaternionHingeConstraint(rbA, rbB, pivotInA, pivotInB, axisInA, axisInB)";
-	checkBodies(fn, rbA, rbB);
-	check::pivot(fn, "pivotInA", pivotInA);
-	check::pivot(fn, "pivotInB", pivotInB);
-	const btVector3 axisA = check::direction(fn, "axisInA", axisInA);
-	const btVector3 axisB = check::direction(fn, "axisInB", axisInB);
+	btVector3 axisA, axisB;
+	if (!checkBodies(fn, rbA, rbB) || !check::pivot(fn, "pivotInA", pivotInA) ||
+		!check::pivot(fn, "pivotInB", pivotInB) || !check::direction(fn, "axisInA", axisInA, axisA) ||
+		!check::direction(fn, "axisInB", axisInB, axisB))
+	{
+		refuseConstruction();
+		return;
+	}
 
 	// Frames chosen exactly as btHingeConstraint chooses them, so that the zero angle is the same.
 	btVector3 axisA1 = rbA.getCenterOfMassTransform().getBasis().getColumn(0);
@@ -124,8 +127,12 @@ btQuaternionHingeConstraint::btQuaternionHingeConstraint(btRigidBody& rbA, const
 	: btTypedConstraint(QUATERNION_HINGE_CONSTRAINT_TYPE, rbA)
 {
 	const char* fn = "btQuaternionHingeConstraint(rbA, pivotInA, axisInA)";
-	check::pivot(fn, "pivotInA", pivotInA);
-	const btVector3 axisA = check::direction(fn, "axisInA", axisInA);
+	btVector3 axisA;
+	if (!check::pivot(fn, "pivotInA", pivotInA) || !check::direction(fn, "axisInA", axisInA, axisA))
+	{
+		refuseConstruction();
+		return;
+	}
 
 	// As btHingeConstraint: body B is the world; its frame is A's frame as it is now, in world coordinates.
 	btVector3 axisA1, axisA2;
@@ -134,10 +141,14 @@ btQuaternionHingeConstraint::btQuaternionHingeConstraint(btRigidBody& rbA, const
 	const btVector3 axisB1 = arcTurnedColumn(axisA, axisA1, axisB);
 	const btVector3 axisB2 = axisB.cross(axisB1);
 
+	const btTransform frameB(basisFromColumns(axisB1, axisB2, axisB), rbA.getCenterOfMassTransform()(pivotInA));
+	if (!check::rigidFrame(fn, "world frame derived for B from rbA's pose", frameB))
+	{
+		refuseConstruction();
+		return;
+	}
 	m_settings.frameInA = btTransform(basisFromColumns(axisA1, axisA2, axisA), pivotInA);
-	m_settings.frameInB =
-		btTransform(basisFromColumns(axisB1, axisB2, axisB), rbA.getCenterOfMassTransform()(pivotInA));
-	check::rigidFrame(fn, "world frame derived for B from rbA's pose", m_settings.frameInB);
+	m_settings.frameInB = frameB;
 	m_settings.useReferenceFrameA = useReferenceFrameA;
 	initFromSettings();
 }
@@ -148,9 +159,12 @@ btQuaternionHingeConstraint::btQuaternionHingeConstraint(btRigidBody& rbA, btRig
 	: btTypedConstraint(QUATERNION_HINGE_CONSTRAINT_TYPE, rbA, rbB)
 {
 	const char* fn = "btQuaternionHingeConstraint(rbA, rbB, rbAFrame, rbBFrame)";
-	checkBodies(fn, rbA, rbB);
-	check::rigidFrame(fn, "rbAFrame", rbAFrame);
-	check::rigidFrame(fn, "rbBFrame", rbBFrame);
+	if (!checkBodies(fn, rbA, rbB) || !check::rigidFrame(fn, "rbAFrame", rbAFrame) ||
+		!check::rigidFrame(fn, "rbBFrame", rbBFrame))
+	{
+		refuseConstruction();
+		return;
+	}
 	m_settings.frameInA = rbAFrame;
 	m_settings.frameInB = rbBFrame;
 	m_settings.useReferenceFrameA = useReferenceFrameA;
@@ -162,11 +176,16 @@ btQuaternionHingeConstraint::btQuaternionHingeConstraint(btRigidBody& rbA, const
 	: btTypedConstraint(QUATERNION_HINGE_CONSTRAINT_TYPE, rbA)
 {
 	const char* fn = "btQuaternionHingeConstraint(rbA, rbAFrame)";
-	check::rigidFrame(fn, "rbAFrame", rbAFrame);
 	// As btHingeConstraint: B's frame has A's basis and A's pivot in world coordinates.
+	const btTransform frameB(rbAFrame.getBasis(), rbA.getCenterOfMassTransform()(rbAFrame.getOrigin()));
+	if (!check::rigidFrame(fn, "rbAFrame", rbAFrame) ||
+		!check::rigidFrame(fn, "world frame derived for B from rbA's pose", frameB))
+	{
+		refuseConstruction();
+		return;
+	}
 	m_settings.frameInA = rbAFrame;
-	m_settings.frameInB = btTransform(rbAFrame.getBasis(), rbA.getCenterOfMassTransform()(rbAFrame.getOrigin()));
-	check::rigidFrame(fn, "world frame derived for B from rbA's pose", m_settings.frameInB);
+	m_settings.frameInB = frameB;
 	m_settings.useReferenceFrameA = useReferenceFrameA;
 	initFromSettings();
 }
@@ -176,16 +195,21 @@ btQuaternionHingeConstraint::btQuaternionHingeConstraint(btRigidBody& rbA, btRig
 	: btTypedConstraint(QUATERNION_HINGE_CONSTRAINT_TYPE, rbA, rbB)
 {
 	const char* fn = "btQuaternionHingeConstraint(rbA, rbB, settings)";
-	checkBodies(fn, rbA, rbB);
-	check::rigidFrame(fn, "settings.frameInA", settings.frameInA);
-	check::rigidFrame(fn, "settings.frameInB", settings.frameInB);
+	if (!checkBodies(fn, rbA, rbB) || !check::rigidFrame(fn, "settings.frameInA", settings.frameInA) ||
+		!check::rigidFrame(fn, "settings.frameInB", settings.frameInB))
+	{
+		refuseConstruction();
+		return;
+	}
 	m_settings.frameInA = settings.frameInA;
 	m_settings.frameInB = settings.frameInB;
 	m_settings.useReferenceFrameA = settings.useReferenceFrameA;
 	m_settings.angularOnly = settings.angularOnly;
 	m_settings.useFrameOffset = settings.useFrameOffset;
 	initFromSettings();
-	// Everything else through the checked setters, so a corrupt settings struct is refused like any other input.
+	// Everything else through the checked setters, so a corrupt settings struct is refused like any other input
+	// (without exceptions: any refusal among them refuses the whole construction).
+	const unsigned refusalsBefore = check::refusals();
 	for (int kind = 0; kind < 6; ++kind)
 	{
 		if (settings.flags & (BT_QHINGE_FLAGS_ERP_ROW0 << kind)) setParam(BT_CONSTRAINT_ERP, settings.rowErp[kind], kind);
@@ -217,6 +241,16 @@ btQuaternionHingeConstraint::btQuaternionHingeConstraint(btRigidBody& rbA, btRig
 			check::fail(fn, "settings.driveMode", "is not a btQuaternionHingeDriveMode", btScalar(settings.driveMode));
 	}
 	setMaxFrictionTorque(settings.maxFrictionTorque);
+	if (check::refusals() != refusalsBefore) refuseConstruction();
+}
+
+void btQuaternionHingeConstraint::refuseConstruction()
+{
+	// Only reached without exceptions (with them the check threw): a safe joint that never gives the solver a row.
+	m_settings = btQuaternionHingeSettings();
+	initFromSettings();
+	m_fault = BT_QHINGE_FAULT_INVALID_ARGUMENT;
+	setEnabled(false);
 }
 
 namespace
@@ -324,8 +358,7 @@ void btQuaternionHingeConstraint::validateFramesIfEdited()
 void btQuaternionHingeConstraint::setFrames(const btTransform& frameA, const btTransform& frameB)
 {
 	const char* fn = "btQuaternionHingeConstraint::setFrames";
-	check::rigidFrame(fn, "frameA", frameA);
-	check::rigidFrame(fn, "frameB", frameB);
+	if (!check::rigidFrame(fn, "frameA", frameA) || !check::rigidFrame(fn, "frameB", frameB)) return;
 	m_settings.frameInA = frameA;
 	m_settings.frameInB = frameB;
 	m_checkedFrameA = frameA;
@@ -335,7 +368,8 @@ void btQuaternionHingeConstraint::setFrames(const btTransform& frameA, const btT
 
 void btQuaternionHingeConstraint::setAxis(btVector3& axisInA)
 {
-	const btVector3 axisA = check::direction("btQuaternionHingeConstraint::setAxis", "axisInA", axisInA);
+	btVector3 axisA;
+	if (!check::direction("btQuaternionHingeConstraint::setAxis", "axisInA", axisInA, axisA)) return;
 	// As btHingeConstraint::setAxis: A's frame gets the new axis; B's frame is derived from the current pose.
 	btVector3 axisA1, axisA2;
 	btPlaneSpace1(axisA, axisA1, axisA2);
@@ -346,7 +380,8 @@ void btQuaternionHingeConstraint::setAxis(btVector3& axisInA)
 	// B's frame: A's joint frame as it is now in world coordinates, expressed in B — checked like a given frame (two
 	// bodies 1e9 m apart would put B's pivot 1e9 m from it), before anything changes.
 	const btTransform frameB(transB.getBasis().transposeTimes(transA.getBasis() * basisA), transB.inverse()(transA(pivotInA)));
-	check::rigidFrame("btQuaternionHingeConstraint::setAxis", "frame derived for B from the bodies' poses", frameB);
+	if (!check::rigidFrame("btQuaternionHingeConstraint::setAxis", "frame derived for B from the bodies' poses", frameB))
+		return;
 	m_settings.frameInA.setBasis(basisA);
 	m_settings.frameInB = frameB;
 	m_checkedFrameA = m_settings.frameInA;
@@ -365,9 +400,9 @@ void btQuaternionHingeConstraint::setUseReferenceFrameA(bool useReferenceFrameA)
 void btQuaternionHingeConstraint::enableAngularMotor(bool enable, btScalar targetVelocity, btScalar maxMotorImpulse)
 {
 	const char* fn = "btQuaternionHingeConstraint::enableAngularMotor";
-	check::finite(fn, "targetVelocity", targetVelocity);
-	check::finite(fn, "maxMotorImpulse", maxMotorImpulse);
-	check::nonNegative(fn, "maxMotorImpulse", maxMotorImpulse);
+	if (!check::finite(fn, "targetVelocity", targetVelocity) || !check::finite(fn, "maxMotorImpulse", maxMotorImpulse) ||
+		!check::nonNegative(fn, "maxMotorImpulse", maxMotorImpulse))
+		return;
 	m_settings.motorTargetVelocity = targetVelocity;
 	m_settings.maxMotorImpulse = maxMotorImpulse;
 	enableMotor(enable);
@@ -382,23 +417,23 @@ void btQuaternionHingeConstraint::enableMotor(bool enable)
 void btQuaternionHingeConstraint::setMaxMotorImpulse(btScalar maxMotorImpulse)
 {
 	const char* fn = "btQuaternionHingeConstraint::setMaxMotorImpulse";
-	check::finite(fn, "maxMotorImpulse", maxMotorImpulse);
-	check::nonNegative(fn, "maxMotorImpulse", maxMotorImpulse);
+	if (!check::finite(fn, "maxMotorImpulse", maxMotorImpulse) || !check::nonNegative(fn, "maxMotorImpulse", maxMotorImpulse))
+		return;
 	m_settings.maxMotorImpulse = maxMotorImpulse;
 }
 
 void btQuaternionHingeConstraint::setMotorTargetVelocity(btScalar motorTargetVelocity)
 {
-	check::finite("btQuaternionHingeConstraint::setMotorTargetVelocity", "motorTargetVelocity", motorTargetVelocity);
+	if (!check::finite("btQuaternionHingeConstraint::setMotorTargetVelocity", "motorTargetVelocity", motorTargetVelocity))
+		return;
 	m_settings.motorTargetVelocity = motorTargetVelocity;
 }
 
 void btQuaternionHingeConstraint::setMotorTarget(btScalar targetAngle, btScalar dt)
 {
 	const char* fn = "btQuaternionHingeConstraint::setMotorTarget";
-	check::angle(fn, "targetAngle", targetAngle);
-	check::finite(fn, "dt", dt);
-	check::positive(fn, "dt", dt);
+	if (!check::angle(fn, "targetAngle", targetAngle) || !check::finite(fn, "dt", dt) || !check::positive(fn, "dt", dt))
+		return;
 	// As stock: clamp the target into a limit with a range (stock's btAngularLimit::fit acts only when high > low),
 	// then the velocity that gets there in dt from the angle of the bodies' current pose. Stock compares with the
 	// wrapped angle; here with the multi-turn angle when it is tracked (continued to the current pose), so targets
@@ -409,15 +444,23 @@ void btQuaternionHingeConstraint::setMotorTarget(btScalar targetAngle, btScalar 
 	const btScalar velocity = (targetAngle - current) / dt;
 	// a denormal dt (1e-38 s) turns any angle difference into an infinite velocity: refused, nothing changed
 	if (!std::isfinite(velocity))
+	{
 		check::fail(fn, "dt", "is too small: (targetAngle - angle) / dt is not a finite velocity", dt);
+		return;
+	}
 	m_settings.motorTargetVelocity = velocity;
 }
 
 void btQuaternionHingeConstraint::setMotorTarget(const btQuaternion& qAinB, btScalar dt)
 {
 	const char* fn = "btQuaternionHingeConstraint::setMotorTarget";
-	for (int i = 0; i < 4; ++i) check::finite(fn, "qAinB", qAinB[i]);
-	if (qAinB.length2() == 0) check::fail(fn, "qAinB must not be the zero quaternion");
+	for (int i = 0; i < 4; ++i)
+		if (!check::finite(fn, "qAinB", qAinB[i])) return;
+	if (qAinB.length2() == 0)
+	{
+		check::fail(fn, "qAinB must not be the zero quaternion");
+		return;
+	}
 	// As stock: the rotation in constraint space, its hinge (twist) part about ẑ, and that angle as the target. The
 	// twist of frameB⁻¹ qAinB frameA is the angle of A relative to B (−θ of the pose it describes), which is
 	// getHingeAngle() without useReferenceFrameA; stock passes it on unchanged with useReferenceFrameA too (where
@@ -431,9 +474,9 @@ void btQuaternionHingeConstraint::setMotorTarget(const btQuaternion& qAinB, btSc
 void btQuaternionHingeConstraint::setServoTarget(btScalar targetAngle, btScalar maxSpeed, btScalar maxTorque)
 {
 	const char* fn = "btQuaternionHingeConstraint::setServoTarget";
-	check::angle(fn, "targetAngle", targetAngle);
-	check::positive(fn, "maxSpeed", maxSpeed);
-	check::nonNegative(fn, "maxTorque", maxTorque);
+	if (!check::angle(fn, "targetAngle", targetAngle) || !check::positive(fn, "maxSpeed", maxSpeed) ||
+		!check::nonNegative(fn, "maxTorque", maxTorque))
+		return;
 	m_settings.servoTargetAngle = targetAngle;
 	m_settings.servoMaxSpeed = maxSpeed;
 	m_settings.servoMaxTorque = maxTorque;
@@ -443,10 +486,10 @@ void btQuaternionHingeConstraint::setServoTarget(btScalar targetAngle, btScalar 
 void btQuaternionHingeConstraint::setSpring(btScalar restAngle, btScalar frequencyHz, btScalar dampingRatio)
 {
 	const char* fn = "btQuaternionHingeConstraint::setSpring";
-	check::angle(fn, "restAngle", restAngle);
-	check::inRange(fn, "frequencyHz", frequencyHz, 0, false, check::kMaxSpringFrequency, true);
-	check::finite(fn, "dampingRatio", dampingRatio);
-	check::nonNegative(fn, "dampingRatio", dampingRatio);
+	if (!check::angle(fn, "restAngle", restAngle) ||
+		!check::inRange(fn, "frequencyHz", frequencyHz, 0, false, check::kMaxSpringFrequency, true) ||
+		!check::finite(fn, "dampingRatio", dampingRatio) || !check::nonNegative(fn, "dampingRatio", dampingRatio))
+		return;
 	m_settings.springRestAngle = restAngle;
 	m_settings.springFrequency = frequencyHz;
 	m_settings.springDampingRatio = dampingRatio;
@@ -458,8 +501,7 @@ void btQuaternionHingeConstraint::disableDrive() { m_settings.driveMode = BT_QHI
 void btQuaternionHingeConstraint::setMaxFrictionTorque(btScalar maxTorque)
 {
 	const char* fn = "btQuaternionHingeConstraint::setMaxFrictionTorque";
-	check::finite(fn, "maxTorque", maxTorque);
-	check::nonNegative(fn, "maxTorque", maxTorque);
+	if (!check::finite(fn, "maxTorque", maxTorque) || !check::nonNegative(fn, "maxTorque", maxTorque)) return;
 	m_settings.maxFrictionTorque = maxTorque;
 }
 
@@ -474,22 +516,22 @@ void btQuaternionHingeConstraint::setLimit(btScalar low, btScalar high, btScalar
 	// that have no angle (low at +∞, high at −∞) or no float precision left (a finite low above 1e6 rad, or high below
 	// −1e6 rad, with low ≤ high).
 	const char* fn = "btQuaternionHingeConstraint::setLimit";
-	if (std::isnan(low)) check::fail(fn, "low", "must not be NaN", low);
-	if (std::isnan(high)) check::fail(fn, "high", "must not be NaN", high);
-	check::finite(fn, "softness", softness);
-	check::finite(fn, "biasFactor", biasFactor);
-	check::finite(fn, "relaxationFactor", relaxationFactor);
+	if (std::isnan(low) && !check::fail(fn, "low", "must not be NaN", low)) return;
+	if (std::isnan(high) && !check::fail(fn, "high", "must not be NaN", high)) return;
+	if (!check::finite(fn, "softness", softness) || !check::finite(fn, "biasFactor", biasFactor) ||
+		!check::finite(fn, "relaxationFactor", relaxationFactor))
+		return;
 	const bool acts = low <= high;
 	if (acts)
 	{
 		// A side at or beyond ±BT_LARGE_FLOAT (±SIMD_INFINITY, ±inf) or beyond ±1e6 rad (SDF's ±1e16: 160 000 turns,
 		// which no stop can mean) has no stop: stored as ±inf.
-		if (low >= BT_LARGE_FLOAT) check::fail(fn, "low", "must be below +infinity", low);
-		if (high <= -BT_LARGE_FLOAT) check::fail(fn, "high", "must be above -infinity", high);
+		if (low >= BT_LARGE_FLOAT && !check::fail(fn, "low", "must be below +infinity", low)) return;
+		if (high <= -BT_LARGE_FLOAT && !check::fail(fn, "high", "must be above -infinity", high)) return;
 		if (low < -check::kMaxAngle) low = -std::numeric_limits<btScalar>::infinity();
-		else check::angle(fn, "low", low);
+		else if (!check::angle(fn, "low", low)) return;
 		if (high > check::kMaxAngle) high = std::numeric_limits<btScalar>::infinity();
-		else check::angle(fn, "high", high);
+		else if (!check::angle(fn, "high", high)) return;
 	}
 	m_settings.hasLimit = acts;
 	m_settings.lowerLimit = low;
@@ -558,7 +600,7 @@ btScalar btQuaternionHingeConstraint::getMultiTurnAngle()
 void btQuaternionHingeConstraint::setMultiTurnAngle(btScalar angle)
 {
 	const char* fn = "btQuaternionHingeConstraint::setMultiTurnAngle";
-	check::angle(fn, "angle", angle);
+	if (!check::angle(fn, "angle", angle)) return;
 	const btScalar raw = getHingeAngle();
 	// 1e-3 rad: generous against float round-off of the pose, far below any distinct angle a user means
 	if (btFabs(wrapAngle(angle - raw)) > btScalar(1e-3))
@@ -566,6 +608,7 @@ void btQuaternionHingeConstraint::setMultiTurnAngle(btScalar angle)
 		std::ostringstream message;
 		message << "angle (" << angle << ") is not the current hinge angle (" << raw << ") plus whole turns";
 		check::fail(fn, message.str().c_str());
+		return;
 	}
 	m_multiTurnAngle = raw + (angle - raw - wrapAngle(angle - raw));
 	m_multiTurnValid = true;
@@ -600,15 +643,22 @@ void btQuaternionHingeConstraint::setParam(int num, btScalar value, int axis)
 	// on every row, its normal CFM on the motor row only, STOP_* on the limit row. Axes 0..4 (which stock ignores)
 	// reach the linear and quaternion rows one kind at a time. Any finite value, as stock.
 	const char* fn = "btQuaternionHingeConstraint::setParam";
-	if (axis < -1 || axis > 5) check::fail(fn, "axis", "must be -1 (the joint) or 0..5", btScalar(axis));
+	if (axis < -1 || axis > 5)
+	{
+		check::fail(fn, "axis", "must be -1 (the joint) or 0..5", btScalar(axis));
+		return;
+	}
 	const char* name = num == BT_CONSTRAINT_ERP		 ? "value (ERP)"
 					   : num == BT_CONSTRAINT_CFM	 ? "value (CFM)"
 					   : num == BT_CONSTRAINT_STOP_ERP ? "value (STOP_ERP)"
 												   : "value (STOP_CFM)";
 	if (num != BT_CONSTRAINT_ERP && num != BT_CONSTRAINT_CFM && num != BT_CONSTRAINT_STOP_ERP &&
 		num != BT_CONSTRAINT_STOP_CFM)
+	{
 		check::fail(fn, "num", "must be BT_CONSTRAINT_ERP, _STOP_ERP, _CFM or _STOP_CFM", btScalar(num));
-	if (!std::isfinite(value)) check::fail(fn, name, "must be finite", value);
+		return;
+	}
+	if (!check::finite(fn, name, value)) return;
 	const bool joint = axis == -1 || axis == kAxialKind;
 	switch (num)
 	{
@@ -632,7 +682,11 @@ void btQuaternionHingeConstraint::setParam(int num, btScalar value, int axis)
 		}
 		case BT_CONSTRAINT_STOP_ERP:
 		case BT_CONSTRAINT_STOP_CFM:
-			if (!joint) check::fail(fn, "axis", "must be -1 or 5 for STOP_ERP/STOP_CFM (the limit row)", btScalar(axis));
+			if (!joint)
+			{
+				check::fail(fn, "axis", "must be -1 or 5 for STOP_ERP/STOP_CFM (the limit row)", btScalar(axis));
+				return;
+			}
 			if (num == BT_CONSTRAINT_STOP_ERP)
 			{
 				m_settings.stopErp = value;
@@ -645,7 +699,7 @@ void btQuaternionHingeConstraint::setParam(int num, btScalar value, int axis)
 			}
 			break;
 		default:
-			check::fail(fn, "num", "must be BT_CONSTRAINT_ERP, _STOP_ERP, _CFM or _STOP_CFM", btScalar(num));
+			break;  // refused above
 	}
 }
 
@@ -686,7 +740,9 @@ btScalar btQuaternionHingeConstraint::rowCfm(int kind, btScalar globalCfm) const
 
 void btQuaternionHingeConstraint::clearFault()
 {
-	// A refused frame edit is not cleared until the frames are rigid again (else the refused frame would be used).
+	// A refused frame edit is not cleared until the frames are rigid again (else the refused frame would be used); a
+	// refused construction never is (the joint has no configuration to return to).
+	if (m_fault == BT_QHINGE_FAULT_INVALID_ARGUMENT) return;
 	m_fault = BT_QHINGE_FAULT_NONE;
 	validateFramesIfEdited();
 	setEnabled(m_fault == BT_QHINGE_FAULT_NONE);
@@ -708,7 +764,8 @@ void btQuaternionHingeConstraint::computeRowCount(btConstraintInfo1* info, const
 	if (m_framesMayHaveChanged) validateFramesIfEdited();
 	// A fault stands until clearFault(), even for a joint re-enabled by hand with setEnabled(true): no rows, disabled
 	// again (the stabilizer skips a faulted joint as well; the two must agree).
-	if (m_fault == BT_QHINGE_FAULT_FRAME_EDITED_INVALID || m_fault == BT_QHINGE_FAULT_NONFINITE_BODY_STATE)
+	if (m_fault == BT_QHINGE_FAULT_FRAME_EDITED_INVALID || m_fault == BT_QHINGE_FAULT_NONFINITE_BODY_STATE ||
+		m_fault == BT_QHINGE_FAULT_INVALID_ARGUMENT)
 	{
 		setEnabled(false);
 		return;

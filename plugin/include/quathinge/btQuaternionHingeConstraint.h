@@ -10,9 +10,11 @@ limit row exists only while the limit is active, a drive row only while a drive 
 
 Differences from btHingeConstraint are listed in README.md ("Differences from btHingeConstraint").
 
-Errors: every constructor and setter checks its arguments and throws std::invalid_argument whose message names the
-function and the parameter ("btQuaternionHingeConstraint::setLimit: low (2) > high (1)"). Nothing invalid is stored,
-so nothing invalid reaches the solver. State that enters from outside (a body's NaN velocity or transform) is checked
+Errors: every constructor and setter checks its arguments and refuses only what has no meaning (NaN/Inf, a zero axis,
+the same body twice, a negative impulse); the message names the function and the parameter
+("btQuaternionHingeConstraint::setLimit: low (nan) must not be NaN"). It is thrown as std::invalid_argument, or, in a
+build without exceptions, handed to the error callback (btQuaternionHingeErrors.h). Nothing invalid is stored, so
+nothing invalid reaches the solver; no const method throws. State that enters from outside (a body's NaN velocity or transform) is checked
 in getInfo1: the joint then reports no rows, disables itself and records why (getFault()).
 */
 #ifndef BT_QUATERNION_HINGE_CONSTRAINT_H
@@ -22,6 +24,7 @@ in getInfo1: the joint then reports no rows, disables itself and records why (ge
 #include "LinearMath/btTransform.h"
 #include "LinearMath/btVector3.h"
 #include "BulletDynamics/ConstraintSolver/btTypedConstraint.h"
+#include "btQuaternionHingeErrors.h"
 
 class btHingeConstraint;
 class btDynamicsWorld;
@@ -61,7 +64,10 @@ enum btQuaternionHingeFault
 	BT_QHINGE_FAULT_NONE = 0,
 	BT_QHINGE_FAULT_NONFINITE_BODY_STATE = 1,  ///< a body's transform or velocity was NaN/Inf when the solver asked for rows
 	BT_QHINGE_FAULT_NO_DYNAMIC_BODY = 2,       ///< both bodies have zero inverse mass and inertia: no row can act
-	BT_QHINGE_FAULT_FRAME_EDITED_INVALID = 3   ///< a frame edited through a non-const reference is not a rigid transform
+	BT_QHINGE_FAULT_FRAME_EDITED_INVALID = 3,  ///< a frame edited through a non-const reference is not a rigid transform
+	/// a constructor refused its arguments in a build without exceptions (btQuaternionHingeErrors.h): the joint stays
+	/// disabled with no rows; clearFault() does not clear it
+	BT_QHINGE_FAULT_INVALID_ARGUMENT = 4
 };
 
 /// The joint's whole configuration: a plain struct with defaults. Angles are in the getHingeAngle() convention
@@ -295,6 +301,7 @@ private:
 	};
 	void poseAt(const btTransform& transA, const btTransform& transB, Pose& pose) const;
 	void initFromSettings();
+	void refuseConstruction();
 	void validateFramesIfEdited();
 	void rebranchForLimit();
 	void updateMultiTurnAngle(btScalar rawUserAngle);
