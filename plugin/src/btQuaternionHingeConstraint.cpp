@@ -244,6 +244,20 @@ btQuaternionHingeConstraint::btQuaternionHingeConstraint(btRigidBody& rbA, btRig
 	if (check::refusals() != refusalsBefore) refuseConstruction();
 }
 
+btQuaternionHingeConstraint* btQuaternionHingeConstraint::upcast(btTypedConstraint* constraint)
+{
+	// The number rules out every Bullet constraint at the cost of a load; dynamic_cast settles a number shared with
+	// another plugin by the object's own type (which no other class can claim).
+	if (!constraint || constraint->getConstraintType() != QUATERNION_HINGE_CONSTRAINT_TYPE) return nullptr;
+	return dynamic_cast<btQuaternionHingeConstraint*>(constraint);
+}
+
+const btQuaternionHingeConstraint* btQuaternionHingeConstraint::upcast(const btTypedConstraint* constraint)
+{
+	if (!constraint || constraint->getConstraintType() != QUATERNION_HINGE_CONSTRAINT_TYPE) return nullptr;
+	return dynamic_cast<const btQuaternionHingeConstraint*>(constraint);
+}
+
 void btQuaternionHingeConstraint::refuseConstruction()
 {
 	// Only reached without exceptions (with them the check threw): a safe joint that never gives the solver a row.

@@ -152,6 +152,14 @@ public:
 	/// From a complete configuration (what getSettings() returns). rbB may be btTypedConstraint::getFixedBody().
 	btQuaternionHingeConstraint(btRigidBody & rbA, btRigidBody & rbB, const btQuaternionHingeSettings& settings);
 
+	/// The quaternion hinge behind a constraint pointer, or null (as btRigidBody::upcast): the type number first
+	/// (QUATERNION_HINGE_CONSTRAINT_TYPE, cheap; every Bullet constraint is ruled out there), then dynamic_cast, so a
+	/// constraint of another plugin that uses the same number is never taken for one. Needs RTTI for the classes
+	/// that carry this type number (Bullet and QuatHinge are built with it). Use it instead of a static_cast on
+	/// getConstraintType().
+	static btQuaternionHingeConstraint* upcast(btTypedConstraint * constraint);
+	static const btQuaternionHingeConstraint* upcast(const btTypedConstraint* constraint);
+
 	// ---- btTypedConstraint --------------------------------------------------------------------------------------------
 	virtual void buildJacobian() {}
 	virtual void getInfo1(btConstraintInfo1 * info);
