@@ -767,7 +767,22 @@ void btQuaternionHingeConstraint::getInfo1(btConstraintInfo1* info)
 	computeRowCount(info, m_rbA.getCenterOfMassTransform(), m_rbB.getCenterOfMassTransform());
 }
 
-void btQuaternionHingeConstraint::getInfo1NonVirtual(btConstraintInfo1* info) { getInfo1(info); }
+void btQuaternionHingeConstraint::getInfo1NonVirtual(btConstraintInfo1* info)
+{
+	// Bullet's non-virtual path: getInfo2NonVirtual tests the limit again at transforms this call never sees, so the
+	// reservation must hold every row it may write (stock reserves its 6 here for the same reason): the bilateral
+	// rows, the drive and friction rows when on, and a limit row whenever a limit acts, needed or not. A reserved row
+	// left unwritten stays the solver's zero row (no effect). getInfo1's checks (faults, body state) still decide
+	// whether there are any rows at all.
+	computeRowCount(info, m_rbA.getCenterOfMassTransform(), m_rbB.getCenterOfMassTransform());
+	if (info->m_numConstraintRows == 0) return;
+	int rows = m_settings.angularOnly ? 2 : 5;
+	if (m_settings.hasLimit) ++rows;
+	if (driveActive(m_settings)) ++rows;
+	if (m_settings.maxFrictionTorque > 0) ++rows;
+	info->m_numConstraintRows = rows;
+	m_numRows = rows;
+}
 
 void btQuaternionHingeConstraint::computeRowCount(btConstraintInfo1* info, const btTransform& transA,
 												  const btTransform& transB)
@@ -951,7 +966,8 @@ void btQuaternionHingeConstraint::fillRows(btConstraintInfo2* info, const btTran
 										   const btTransform& transB, const btVector3& angVelA,
 										   const btVector3& angVelB)
 {
-	if (m_numRows == 0) return;
+	// none when getInfo1 reserved none, or fewer than the bilateral rows (angular-only turned off in between)
+	if (m_numRows < (m_settings.angularOnly ? 2 : 5)) return;
 	m_lastTimeStep = btScalar(1) / info->fps;
 	// the pose getInfo1 cached, used in place; else computed here (no copy either way)
 	Pose computed;
@@ -961,9 +977,14 @@ void btQuaternionHingeConstraint::fillRows(btConstraintInfo2* info, const btTran
 	int row = fillBilateralRows(info, transA, transB, pose);
 	const int skip = info->rowskip;
 
-	const bool drive = driveActive(m_settings);
-	const bool friction = m_settings.maxFrictionTorque > 0;
-	if (m_limitSign == 0 && !drive && !friction) return;
+	// Never more rows than the last getInfo1 reserved (m_numRows), whatever changed since: a setter called between
+	// the two, or getInfo2NonVirtual's own limit test. Dropped first: the limit row, then friction (the order below
+	// writes the drive first).
+	const int budget = m_numRows;
+	const bool drive = driveActive(m_settings) && row < budget;
+	const bool friction = m_settings.maxFrictionTorque > 0 && row + (drive ? 1 : 0) < budget;
+	const bool limitRowFits = row + (drive ? 1 : 0) + (friction ? 1 : 0) < budget;
+	if ((m_limitSign == 0 || !limitRowFits) && !drive && !friction) return;
 
 	// Axis part: rows along J_α = σ R_A t (HingeAngle.h: the exact gradient of the angle within 90° of assembly).
 	// (In SIMD lanes, MatrixLanes.h: btVector3's products, the same bits.)
@@ -1000,7 +1021,7 @@ void btQuaternionHingeConstraint::fillRows(btConstraintInfo2* info, const btTran
 	if (friction) emit(frictionRow(m_settings, info->fps), axialCfm, m_settings.rowCfm[kAxialKind]);
 	// The limit row comes last: Gauss–Seidel leaves each sweep with the last row satisfied, so a stop is never crossed
 	// because a drive row was solved after it (a motor driven into a stop is held by the stop).
-	if (m_limitSign != 0)
+	if (m_limitSign != 0 && limitRowFits)
 	{
 		LimitState limit;  // as testLimit found it in getInfo1 (or getInfo2NonVirtual)
 		limit.sign = m_limitSign;

@@ -164,7 +164,10 @@ public:
 	virtual void buildJacobian() {}
 	virtual void getInfo1(btConstraintInfo1 * info);
 	virtual void getInfo2(btConstraintInfo2 * info);
-	/// As getInfo1 (stock's variant reports a fixed 6; the rows here are always the ones needed).
+	/// For Bullet's non-virtual path: as stock's (which reserves a fixed 6), every row getInfo2NonVirtual may write —
+	/// the bilateral rows, the drive and friction rows when on, and a limit row whenever a limit acts (it is tested
+	/// again there, at the transforms given). Neither getInfo2 form ever writes more rows than the last getInfo1 or
+	/// getInfo1NonVirtual reserved.
 	void getInfo1NonVirtual(btConstraintInfo1 * info);
 	/// As getInfo2, for given transforms and angular velocities (used by btHingeConstraint-style callers).
 	void getInfo2NonVirtual(btConstraintInfo2 * info, const btTransform& transA, const btTransform& transB,

@@ -11,7 +11,7 @@ projects the bodies held by btQuaternionHingeConstraints back onto their joints:
                     floor), the iteration cap, or no further progress;
   (Q14) velocities: v ← v − M⁻¹ Jᵀ K⁻¹ J v with J at the projected positions (Cline & Pai, ICRA 2003).
 
-What it projects. Only btQuaternionHingeConstraints (getConstraintType() == QUATERNION_HINGE_CONSTRAINT_TYPE) that
+What it projects. Only btQuaternionHingeConstraints (btQuaternionHingeConstraint::upcast) that
 are enabled (a disabled or broken joint is skipped) and have at least one movable body. A movable body is dynamic and
 active: static and kinematic bodies (infinite mass) and sleeping bodies are never moved, and do not connect islands.
 The joints are grouped into islands (connected through shared movable bodies); each island is solved on its own.
