@@ -157,6 +157,11 @@ TEST(BadInput, SettersRefuseBadArgumentsAndKeepTheJointUnchanged)
 	expectRefused([&] { j.setParam(BT_CONSTRAINT_STOP_CFM, kNaN); }, "value");
 	expectRefused([&] { j.setParam(BT_CONSTRAINT_CFM, kNaN, 0); }, "value");
 	expectRefused([&] { j.setParam(BT_CONSTRAINT_ERP, btScalar(0.5), -2); }, "axis");
+	expectRefused([&] { j.setParam(BT_CONSTRAINT_ERP, btScalar(2)); }, "ERP");
+	expectRefused([&] { j.setParam(BT_CONSTRAINT_ERP, -btScalar(0.1), 3); }, "ERP");
+	expectRefused([&] { j.setParam(BT_CONSTRAINT_CFM, 1); }, "CFM");
+	expectRefused([&] { j.setParam(BT_CONSTRAINT_CFM, -btScalar(0.1)); }, "CFM");
+	expectRefused([&] { j.setParam(BT_CONSTRAINT_STOP_CFM, 1); }, "STOP_CFM");
 	expectRefused([&] { j.setParam(99, 0); }, "num");
 	expectRefused([&] { j.setParam(BT_CONSTRAINT_ERP, btScalar(0.5), 6); }, "axis");
 	expectRefused([&] { j.setParam(BT_CONSTRAINT_STOP_ERP, btScalar(0.5), 2); }, "axis");

@@ -174,10 +174,10 @@ public:
 							const btVector3& angVelA, const btVector3& angVelB);
 	void updateRHS(btScalar /*timeStep*/) {}
 
-	/// ERP / STOP_ERP / CFM / STOP_CFM, any finite value (as stock). axis −1 or 5 means what it means for stock:
-	/// ERP for every row, CFM for the axial drive (motor) and friction rows, STOP_* for the limit row. Beyond stock,
-	/// axis 0..2 sets the linear rows, 3..4 the angular rows (stock ignores these axes); STOP_* accept only −1 and 5.
-	/// A NaN/Inf value, another num or an axis outside −1..5 is refused.
+	/// ERP / STOP_ERP / CFM / STOP_CFM. axis −1 or 5 means what it means for stock: ERP for every row, CFM for the
+	/// axial drive (motor) and friction rows, STOP_* for the limit row. Beyond stock, axis 0..2 sets the linear rows,
+	/// 3..4 the angular rows (stock ignores these axes); STOP_* accept only −1 and 5. ERP in [0, 2), CFM in [0, 1)
+	/// (outside them the solve diverges or asks for error growth); anything else is refused.
 	virtual void setParam(int num, btScalar value, int axis = -1);
 	/// The value set for (num, axis), or 0 when none was set (as stock, whose unset values are 0; the solver's global
 	/// value is then in effect). Never fails: an unknown num or axis returns 0.
