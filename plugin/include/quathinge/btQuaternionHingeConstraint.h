@@ -262,7 +262,7 @@ public:
 	/// at every solver step while a limit, servo or spring needs it, and from the first call of this function on.
 	btScalar getMultiTurnAngle();
 	/// Declares the current pose to be at multi-turn angle `angle` (must equal getHingeAngle() modulo 2π within 1e-3
-	/// rad; throws otherwise).
+	/// rad; refused otherwise).
 	void setMultiTurnAngle(btScalar angle);
 
 	/// Servo: holds targetAngle (multi-turn, rad) moving at most maxSpeed (rad/s, > 0) with at most maxTorque (N·m,
