@@ -96,9 +96,9 @@ struct btQuaternionHingeSettings
 	/// Any finite value, used within [0, 1]: the limit row is switched on speculatively once the angle is within
 	/// (1 − softness)·(upper − lower)/2 of a stop; until the stop is reached it only forbids crossing it within the
 	/// step. 1: row only at or past the stop. (Stock stores it and never uses it.)
-	btScalar limitSoftness = btScalar(0.9);
+	btScalar limitSoftness = btScalar(0.9f);  // stock's float literals (0.9f, 0.3f), the same bits in a double build
 	/// Any finite value (as stock; 0.3 by default). Multiplies the limit row's error correction and bounce.
-	btScalar limitBiasFactor = btScalar(0.3);
+	btScalar limitBiasFactor = btScalar(0.3f);
 	/// Any finite value (as stock): bounce on hitting a stop when > 0; restitution = bias · relaxation.
 	btScalar limitRelaxationFactor = btScalar(1.0);
 
@@ -234,7 +234,7 @@ public:
 	/// means no stop on that side. softness, biasFactor, relaxationFactor: any finite values, see
 	/// btQuaternionHingeSettings. If the current multi-turn angle is outside [low, high], it is moved by whole turns
 	/// to the branch nearest the range (so a stock-style range across ±π means what it means for btHingeConstraint).
-	void setLimit(btScalar low, btScalar high, btScalar softness = btScalar(0.9), btScalar biasFactor = btScalar(0.3),
+	void setLimit(btScalar low, btScalar high, btScalar softness = btScalar(0.9f), btScalar biasFactor = btScalar(0.3f),
 				  btScalar relaxationFactor = btScalar(1.0));
 	/// Frees the joint (as setLimit(1, -1) would, but keeping the ends).
 	void removeLimit();
