@@ -9,6 +9,7 @@
 #endif
 
 #include <btBulletDynamicsCommon.h>
+#include "support/Refusal.h"
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -174,9 +175,9 @@ TEST(FuzzFindings, SimdInfinityMeansNoStopOnThatSide)
 	EXPECT_EQ(j.getUpperLimit(), btScalar(1));
 	j.setLimit(-1, BT_LARGE_FLOAT);
 	EXPECT_TRUE(std::isinf(j.getUpperLimit()) && j.getUpperLimit() > 0);
-	EXPECT_THROW(j.setLimit(SIMD_INFINITY, SIMD_INFINITY), std::invalid_argument);    // low at +∞: no angle is above it
-	EXPECT_THROW(j.setLimit(-SIMD_INFINITY, -SIMD_INFINITY), std::invalid_argument);  // high at −∞
-	EXPECT_THROW(j.setLimit(std::nanf(""), 1), std::invalid_argument);
+	EXPECT_REFUSED(j.setLimit(SIMD_INFINITY, SIMD_INFINITY), "low");    // low at +∞: no angle is above it
+	EXPECT_REFUSED(j.setLimit(-SIMD_INFINITY, -SIMD_INFINITY), "high");  // high at −∞
+	EXPECT_REFUSED(j.setLimit(std::nanf(""), 1), "low");
 }
 
 TEST(FuzzFindings, DeserializeRefusesOutOfRangeTypedConstraintFields)
@@ -200,14 +201,14 @@ TEST(FuzzFindings, DeserializeRefusesOutOfRangeTypedConstraintFields)
 	auto load = [&](const std::vector<unsigned char>& bytes) {
 		std::unique_ptr<btQuaternionHingeConstraint> joint(
 			btQuaternionHingeDeserialize(bytes.data(), bytes.size(), a, btTypedConstraint::getFixedBody()));
-		return joint->getOverrideNumSolverIterations();
+		return joint ? joint->getOverrideNumSolverIterations() : -2;  // null: refused without exceptions
 	};
-	EXPECT_NO_THROW(load(buffer));
-	EXPECT_THROW(load(edited([](auto& t) { t.m_breakingImpulseThreshold = -1e20f; })), std::invalid_argument);
-	EXPECT_THROW(load(edited([](auto& t) { t.m_breakingImpulseThreshold = std::nanf(""); })), std::invalid_argument);
-	EXPECT_THROW(load(edited([](auto& t) { t.m_overrideNumSolverIterations = 250000000; })), std::invalid_argument);
-	EXPECT_THROW(load(edited([](auto& t) { t.m_overrideNumSolverIterations = 0; })), std::invalid_argument);
-	EXPECT_THROW(load(edited([](auto& t) { t.m_dbgDrawSize = -1; })), std::invalid_argument);
+	EXPECT_ACCEPTED(load(buffer));
+	EXPECT_REFUSED(load(edited([](auto& t) { t.m_breakingImpulseThreshold = -1e20f; })), "breakingImpulseThreshold");
+	EXPECT_REFUSED(load(edited([](auto& t) { t.m_breakingImpulseThreshold = std::nanf(""); })), "breakingImpulseThreshold");
+	EXPECT_REFUSED(load(edited([](auto& t) { t.m_overrideNumSolverIterations = 250000000; })), "overrideNumSolverIterations");
+	EXPECT_REFUSED(load(edited([](auto& t) { t.m_overrideNumSolverIterations = 0; })), "overrideNumSolverIterations");
+	EXPECT_REFUSED(load(edited([](auto& t) { t.m_dbgDrawSize = -1; })), "dbgDrawSize");
 	EXPECT_EQ(load(edited([](auto& t) { t.m_overrideNumSolverIterations = 40; })), 40);
 }
 
@@ -222,15 +223,7 @@ TEST(FuzzFindings, SetAxisRefusesADerivedFrameBeyondThePivotRange)
 	a.setWorldTransform(btTransform(btQuaternion::getIdentity(), btVector3(0, btScalar(-4e9), 0)));
 	const btTransform before = j.getBFrame();
 	btVector3 axis(1, 0, 0);
-	try
-	{
-		j.setAxis(axis);
-		FAIL() << "setAxis accepted a derived pivot 4e9 m from body B";
-	}
-	catch (const std::invalid_argument& e)
-	{
-		EXPECT_NE(std::string(e.what()).find("frame derived for B"), std::string::npos) << e.what();
-	}
+	EXPECT_REFUSED(j.setAxis(axis), "frame derived for B");
 	EXPECT_EQ(j.getBFrame().getOrigin(), before.getOrigin());
 }
 
@@ -242,15 +235,7 @@ TEST(FuzzFindings, SetMotorTargetRefusesADtThatMakesTheVelocityInfinite)
 	btRigidBody a(1, nullptr, &shape, btVector3(1, 1, 1));
 	btQuaternionHingeConstraint j(a, btVector3(0, btScalar(0.5), 0), btVector3(0, 0, 1));
 	j.enableAngularMotor(true, btScalar(-2), btScalar(0.5));
-	try
-	{
-		j.setMotorTarget(btScalar(1), std::numeric_limits<btScalar>::denorm_min());
-		FAIL() << "setMotorTarget accepted a dt that makes the velocity infinite";
-	}
-	catch (const std::invalid_argument& e)
-	{
-		EXPECT_NE(std::string(e.what()).find("dt"), std::string::npos) << e.what();
-	}
+	EXPECT_REFUSED(j.setMotorTarget(btScalar(1), std::numeric_limits<btScalar>::denorm_min()), "dt");
 	EXPECT_EQ(j.getMotorTargetVelocity(), btScalar(-2));
 	j.setMotorTarget(btScalar(1), btScalar(0.5));
 	EXPECT_NEAR(j.getMotorTargetVelocity(), btScalar(2), btScalar(1e-4));  // rad/s: (1 − 0) / 0.5 from rest at θ = 0

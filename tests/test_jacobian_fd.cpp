@@ -213,9 +213,11 @@ TEST(JacobianFiniteDifference, AngleGradientIsTheDerivativeOfTheHingeAngle)
 
 namespace
 {
-// The solver's rows are M·J with errors M·C, M an orthogonal row-space rotation taken at the pose (SolverRowBasis.h):
-// 3×3 on the point rows (their directions, read from J2's linear part), 2×2 on the quaternion rows (identified against
-// the independent Q7/Q12 rows at the same pose). Decoded reads C = Mᵀ·(M C) and J = Mᵀ·(M J) back.
+// The solver's rows are T·J with errors T·C, T a change of row basis taken at the pose (SolverRowBasis.h and
+// fillBilateralRows): an orthogonal 3×3 rotation of the point rows (their directions, read from J2's linear part), an
+// orthogonal 2×2 turn of the quaternion rows (identified against the independent Q7/Q12 rows at the same pose), and a
+// multiple of the quaternion rows taken off each point row (the lever arms' axial parts; identified from J2's
+// angular part against r_B × e, which the test computes from the pose). Decoded undoes each and reads C and J back.
 struct DecodedRows
 {
 	int n = 0;
@@ -245,6 +247,24 @@ DecodedRows decode(btQuaternionHingeConstraint& joint, bool angularOnly, const b
 	int first = 0;
 	if (!angularOnly)
 	{
+		// The quaternion rows taken off point row i: J2ang_i = r_B × e_i − Σ_k κ_ik g_k, g_k the quaternion rows'
+		// J2 angular part; κ by least squares, then row_i + Σ_k κ_ik row_k and value_i + Σ_k κ_ik value_k.
+		const btTransform& tb = joint.getRigidBodyB().getCenterOfMassTransform();
+		const btVector3 rB = tb * joint.getBFrame().getOrigin() - tb.getOrigin();
+		const btVector3 g[2] = {r.angB(3), r.angB(4)};
+		const double gg00 = g[0].dot(g[0]), gg01 = g[0].dot(g[1]), gg11 = g[1].dot(g[1]);
+		const double gdet = gg00 * gg11 - gg01 * gg01;
+		double pointValue[3];
+		btVector3 pointRow[3][4];
+		for (int i = 0; i < 3; ++i)
+		{
+			const btVector3 residual = rB.cross(r.linB(i)) - r.angB(i);
+			const double q0 = g[0].dot(residual), q1 = g[1].dot(residual);
+			const double k0 = gdet > 0 ? (gg11 * q0 - gg01 * q1) / gdet : 0, k1 = gdet > 0 ? (gg00 * q1 - gg01 * q0) / gdet : 0;
+			pointValue[i] = double(solver.value(i)) + k0 * double(solver.value(3)) + k1 * double(solver.value(4));
+			for (int kind = 0; kind < 4; ++kind)
+				pointRow[i][kind] = rowOf(kind, i) + btScalar(k0) * rowOf(kind, 3) + btScalar(k1) * rowOf(kind, 4);
+		}
 		// M_point: rows e_i (J2 linear = e_i). C = Σ_i e_i (e_i·C), J likewise.
 		btVector3 e[3] = {r.linB(0), r.linB(1), r.linB(2)};
 		for (int i = 0; i < 3; ++i)
@@ -253,12 +273,12 @@ DecodedRows decode(btQuaternionHingeConstraint& joint, bool angularOnly, const b
 		for (int world = 0; world < 3; ++world)
 		{
 			double ci = 0;
-			for (int i = 0; i < 3; ++i) ci += double(e[i][world]) * double(solver.value(i));
+			for (int i = 0; i < 3; ++i) ci += double(e[i][world]) * pointValue[i];
 			d.c[world] = ci;
 			for (int kind = 0; kind < 4; ++kind)
 			{
 				btVector3 sum(0, 0, 0);
-				for (int i = 0; i < 3; ++i) sum += e[i][world] * rowOf(kind, i);
+				for (int i = 0; i < 3; ++i) sum += e[i][world] * pointRow[i][kind];
 				d.jac[kind][world] = sum;
 			}
 		}

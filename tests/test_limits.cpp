@@ -150,20 +150,25 @@ TEST(Limits, MotorDrivenIntoTheStopIsHeld)
 	EXPECT_NEAR(stop.impulse, -kMaxImpulse, kImpulseTol);  // the stop holds it
 }
 
-TEST(Limits, LowAboveHighIsRefusedAndRemoveLimitFrees)
+TEST(Limits, LowAboveHighFreesAsStockAndRemoveLimitFrees)
 {
-	// setLimit(low > high) throws (stock would silently free the joint); removeLimit frees it.
-	Wheel w;
-	w.hinge->setLimit(-1, 1);
-	EXPECT_THROW(w.hinge->setLimit(2, 1), std::invalid_argument);
-	EXPECT_TRUE(w.hinge->hasLimit());
-	EXPECT_EQ(w.hinge->getLowerLimit(), -1);
-	w.hinge->removeLimit();
-	EXPECT_FALSE(w.hinge->hasLimit());
-	w.hinge->getMultiTurnAngle();  // without a limit the multi-turn angle is tracked from its first read on
-	w.wheel->setAngularVelocity(btVector3(0, 0, 10));
-	w.world.step(60);
-	EXPECT_GT(w.hinge->getMultiTurnAngle(), 5.0);  // free: it spun past where the stop was
+	// setLimit(low > high) frees the joint, as stock (btAngularLimit's negative half range never acts), keeping the
+	// values it was given; removeLimit frees it as well.
+	for (bool viaRemove : {false, true})
+	{
+		Wheel w;
+		w.hinge->setLimit(-1, 1);
+		EXPECT_TRUE(w.hinge->hasLimit());
+		if (viaRemove) w.hinge->removeLimit();
+		else w.hinge->setLimit(2, 1);
+		EXPECT_FALSE(w.hinge->hasLimit());
+		EXPECT_EQ(w.hinge->getLowerLimit(), viaRemove ? -1 : 2);
+		EXPECT_EQ(w.hinge->getUpperLimit(), 1);
+		w.hinge->getMultiTurnAngle();  // without a limit the multi-turn angle is tracked from its first read on
+		w.wheel->setAngularVelocity(btVector3(0, 0, 10));
+		w.world.step(60);
+		EXPECT_GT(w.hinge->getMultiTurnAngle(), 5.0);  // free: it spun past where the stop was
+	}
 }
 
 TEST(Limits, SolveLimitAndSignAsStock)

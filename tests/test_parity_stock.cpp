@@ -99,7 +99,7 @@ Trajectory run(const Scene& scene, bool quaternion, int form, bool refA)
 				out.maxSeparation = std::max(out.maxSeparation, qh_test::separation(h.getRigidBodyA(), h.getAFrame(), h.getRigidBodyB(), h.getBFrame()));
 				out.maxMisalignment = std::max(out.maxMisalignment, qh_test::misalignmentDeg(h.getRigidBodyA(), h.getAFrame(), h.getRigidBodyB(), h.getBFrame()));
 			};
-			if (quaternion) record(static_cast<btQuaternionHingeConstraint*>(j));
+			if (quaternion) record(btQuaternionHingeConstraint::upcast(j));
 			else record(static_cast<btHingeConstraint*>(j));
 		}
 	}
@@ -248,7 +248,7 @@ TEST(ParityWithStock, ReplaceHingeConstraintsSwapsEveryStockHinge)
 	EXPECT_EQ(removed.size(), 3);
 	int quaternionHinges = 0;
 	for (int i = 0; i < w.getNumConstraints(); ++i)
-		quaternionHinges += w.getConstraint(i)->getConstraintType() == QUATERNION_HINGE_CONSTRAINT_TYPE;
+		quaternionHinges += btQuaternionHingeConstraint::upcast(w.getConstraint(i)) != nullptr;
 	EXPECT_EQ(quaternionHinges, 3);
 	// disableCollisionsBetweenLinkedBodies kept: h2 was added with false, so its replacement is not referenced by b1
 	int refsB1 = 0;

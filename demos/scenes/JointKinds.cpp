@@ -501,8 +501,8 @@ int Simulation::rows()
 	for (btTypedConstraint* c : m_compared)
 	{
 		if (!c->isEnabled()) continue;
-		if (c->getConstraintType() == QUATERNION_HINGE_CONSTRAINT_TYPE)
-			total += static_cast<btQuaternionHingeConstraint*>(c)->getNumRowsLastStep();
+		if (const btQuaternionHingeConstraint* hinge = btQuaternionHingeConstraint::upcast(c))
+			total += hinge->getNumRowsLastStep();
 		else
 		{
 			btTypedConstraint::btConstraintInfo1 info;

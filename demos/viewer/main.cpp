@@ -528,8 +528,8 @@ public:
 			for (int c = 0; c < p.sim->world().getNumConstraints(); ++c)
 			{
 				btTypedConstraint* tc = p.sim->world().getConstraint(c);
-				if (tc->getConstraintType() == QUATERNION_HINGE_CONSTRAINT_TYPE)
-					static_cast<btQuaternionHingeConstraint*>(tc)->debugDraw(&m_debugDraw, btScalar(0.3));
+				if (const btQuaternionHingeConstraint* hinge = btQuaternionHingeConstraint::upcast(tc))
+					hinge->debugDraw(&m_debugDraw, btScalar(0.3));
 			}
 			glEnable(GL_DEPTH_TEST);
 		}

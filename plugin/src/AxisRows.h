@@ -47,8 +47,9 @@ inline LimitState evaluateLimit(const btQuaternionHingeSettings& s, btScalar ang
 	}
 	const btScalar halfRange = btScalar(0.5) * (s.upperLimit - s.lowerLimit);
 	// speculative margin: the outer (1 − softness) of the half range; none for an unbounded side
-	const btScalar margin =
-		(std::isfinite(halfRange) ? (btScalar(1) - s.limitSoftness) * halfRange : btScalar(0)) + reach;
+	// (softness taken into [0, 1]: stock accepts any value and never uses it)
+	const btScalar softness = btMax(btScalar(0), btMin(btScalar(1), s.limitSoftness));
+	const btScalar margin = (std::isfinite(halfRange) ? (btScalar(1) - softness) * halfRange : btScalar(0)) + reach;
 	const btScalar toLower = angle - s.lowerLimit;
 	const btScalar toUpper = s.upperLimit - angle;
 	if (toLower <= margin && toLower <= toUpper)

@@ -18,6 +18,16 @@ btScalar wrapAngle(btScalar angle)
 btScalar hingeAngle(const btQuaternion& q)
 {
 	btScalar w = q.w(), z = q.z();
+	// Axes flipped (to within float: q0² + q_z² ≤ ε, a swing within about 0.03° of π): the twist is undefined there,
+	// and its formula would give whatever the round-off of q0 and q_z says (even −2π from atan2(−0, −0)). Stock's
+	// formula is defined there (the angle of frame B's y about A's axis, btHingeConstraint::getHingeAngle):
+	// θ = atan2(−m01, m11) of the rotation matrix of q, written homogeneously; taken into (−π, π].
+	if (w * w + z * z <= SIMD_EPSILON * q.length2())
+	{
+		const btScalar x = q.x(), y = q.y();
+		const btScalar theta = btAtan2(btScalar(2) * (w * z - x * y), w * w + y * y - x * x - z * z);
+		return theta <= -SIMD_PI ? SIMD_PI : theta;
+	}
 	// (Q3, Q11) the representative with q0 ≥ 0 (and q_z ≥ 0 when q0 = 0) gives θ ∈ (−π, π].
 	if (w < 0 || (w == 0 && z < 0))
 	{

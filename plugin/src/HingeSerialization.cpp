@@ -6,7 +6,8 @@
 #include <cmath>
 #include <cstring>
 #include <string>
-#include <stdexcept>
+#include "HingeAngle.h"
+#include "InputChecks.h"
 
 namespace
 {
@@ -132,25 +133,30 @@ btQuaternionHingeConstraint* btQuaternionHingeDeserialize(const void* buffer, si
 	btQuaternionHingeSettings settings;
 	std::string why;
 	if (!btQuaternionHingeReadSettings(buffer, size, settings, &why))
-		throw std::invalid_argument("btQuaternionHingeDeserialize: data: " + why);
+		return quathinge::check::fail("btQuaternionHingeDeserialize", ("data: " + why).c_str()), nullptr;
 	btQuaternionHingeConstraintData data;
 	std::memcpy(&data, buffer, sizeof(data));
 	// btTypedConstraint's own fields from the file, checked as the joint's setters check theirs (its setters do not)
 	const auto& typed = data.m_stock.m_typeConstraintData;
 	const double threshold = double(typed.m_breakingImpulseThreshold);
 	if (!(threshold >= 0))
-		throw std::invalid_argument("btQuaternionHingeDeserialize: data: breakingImpulseThreshold (" +
-									std::to_string(threshold) + ") must be >= 0 (SIMD_INFINITY: never breaks)");
+		return quathinge::check::fail("btQuaternionHingeDeserialize", ("data: breakingImpulseThreshold (" +
+									std::to_string(threshold) + ") must be >= 0 (SIMD_INFINITY: never breaks)").c_str()), nullptr;
 	const int iterations = typed.m_overrideNumSolverIterations;
 	if (iterations != -1 && (iterations < 1 || iterations > kMaxSolverIterationsOverride))
-		throw std::invalid_argument("btQuaternionHingeDeserialize: data: overrideNumSolverIterations (" +
+		return quathinge::check::fail("btQuaternionHingeDeserialize", ("data: overrideNumSolverIterations (" +
 									std::to_string(iterations) + ") must be -1 (none) or in [1, " +
-									std::to_string(kMaxSolverIterationsOverride) + "]");
+									std::to_string(kMaxSolverIterationsOverride) + "]").c_str()), nullptr;
 	const double drawSize = double(typed.m_dbgDrawSize);
 	if (!(drawSize >= 0) || !std::isfinite(drawSize))
-		throw std::invalid_argument("btQuaternionHingeDeserialize: data: dbgDrawSize (" + std::to_string(drawSize) +
-									") must be finite and >= 0");
+		return quathinge::check::fail("btQuaternionHingeDeserialize", ("data: dbgDrawSize (" + std::to_string(drawSize) +
+									") must be finite and >= 0").c_str()), nullptr;
 	btQuaternionHingeConstraint* joint = new btQuaternionHingeConstraint(rbA, rbB, settings);
+	if (joint->getFault() == BT_QHINGE_FAULT_INVALID_ARGUMENT)  // refused without exceptions (reported already)
+	{
+		delete joint;
+		return nullptr;
+	}
 	joint->setBreakingImpulseThreshold(btScalar(typed.m_breakingImpulseThreshold));
 	joint->setEnabled(typed.m_isEnabled != 0);
 	joint->setUserConstraintType(typed.m_userConstraintType);
@@ -158,16 +164,10 @@ btQuaternionHingeConstraint* btQuaternionHingeDeserialize(const void* buffer, si
 	joint->setOverrideNumSolverIterations(typed.m_overrideNumSolverIterations);
 	joint->enableFeedback(typed.m_needsFeedback != 0);
 	joint->setDbgDrawSize(btScalar(typed.m_dbgDrawSize));
-	if (data.m_multiTurnValid)
-	{
-		try
-		{
-			joint->setMultiTurnAngle(btScalar(data.m_multiTurnAngle));
-		}
-		catch (const std::invalid_argument&)
-		{
-			// the bodies were not restored to the saved pose: the angle restarts from the pose
-		}
-	}
+	// unless the bodies were not restored to the saved pose: the angle then restarts from the pose (setMultiTurnAngle's
+	// test, asked first so that nothing is refused)
+	if (data.m_multiTurnValid && btFabs(btScalar(data.m_multiTurnAngle)) <= quathinge::check::kMaxAngle &&
+		btFabs(quathinge::wrapAngle(btScalar(data.m_multiTurnAngle) - joint->getHingeAngle())) <= btScalar(1e-3))
+		joint->setMultiTurnAngle(btScalar(data.m_multiTurnAngle));
 	return joint;
 }

@@ -1,53 +1,92 @@
 #include "InputChecks.h"
 
+#include "quathinge/btQuaternionHingeErrors.h"
+
 #include <cmath>
+#include <cstdio>
 #include <sstream>
+#include <string>
+#ifndef QUATHINGE_NO_EXCEPTIONS
 #include <stdexcept>
+#endif
+
+namespace
+{
+thread_local unsigned t_refusals = 0;
+}  // namespace
 
 namespace quathinge
 {
 namespace check
 {
-void fail(const char* fn, const char* param, const char* what, btScalar value)
+namespace
+{
+bool refuse(const std::string& message)
+{
+	++t_refusals;
+#ifdef QUATHINGE_NO_EXCEPTIONS
+	void* user = nullptr;
+	const btQuaternionHingeErrorCallback callback = btQuaternionHingeGetErrorCallback(&user);
+	callback(message.c_str(), user);
+	return false;
+#else
+	throw std::invalid_argument(message);
+#endif
+}
+}  // namespace
+
+unsigned refusals() { return t_refusals; }
+
+bool fail(const char* fn, const char* param, const char* what, btScalar value)
 {
 	std::ostringstream message;
 	message << fn << ": " << param << " (" << value << ") " << what;
-	throw std::invalid_argument(message.str());
+	return refuse(message.str());
 }
 
-void fail(const char* fn, const char* message) { throw std::invalid_argument(std::string(fn) + ": " + message); }
+bool fail(const char* fn, const char* message) { return refuse(std::string(fn) + ": " + message); }
 
-void finite(const char* fn, const char* param, btScalar value)
+bool finite(const char* fn, const char* param, btScalar value)
 {
-	if (!std::isfinite(value)) fail(fn, param, "must be finite", value);
+	return std::isfinite(value) || fail(fn, param, "must be finite", value);
 }
 
-void finite(const char* fn, const char* param, const btVector3& value)
+bool finite(const char* fn, const char* param, const btVector3& value)
 {
 	for (int i = 0; i < 3; ++i)
 		if (!std::isfinite(value[i]))
 		{
 			std::ostringstream message;
 			message << param << " must be finite (component " << i << " is " << value[i] << ")";
-			fail(fn, message.str().c_str());
+			return fail(fn, message.str().c_str());
 		}
+	return true;
 }
 
-void pivot(const char* fn, const char* param, const btVector3& value)
+bool pivot(const char* fn, const char* param, const btVector3& value)
 {
-	finite(fn, param, value);
-	if (value.length() > kMaxPivotDistance)
-		fail(fn, (std::string(param) + " distance from the centre of mass (m)").c_str(), "must be at most 1e6", value.length());
+	if (!finite(fn, param, value)) return false;
+	return value.length() <= kMaxPivotDistance ||
+		   fail(fn, (std::string(param) + " distance from the centre of mass (m)").c_str(), "must be at most 1e6",
+				value.length());
 }
 
-btVector3 unitAxis(const char* fn, const char* param, const btVector3& axis)
+bool direction(const char* fn, const char* param, const btVector3& axis, btVector3& normalized)
 {
-	finite(fn, param, axis);
+	if (!finite(fn, param, axis)) return false;
 	const btScalar length = axis.length();
-	if (length == 0) fail(fn, (std::string(param) + " must not be the zero vector").c_str());
-	if (btFabs(length - 1) > kUnitTolerance)
-		fail(fn, (std::string(param) + " length").c_str(), "must be 1 (a unit axis)", length);
-	return axis / length;
+	if (length >= SIMD_EPSILON && length <= btScalar(1) / SIMD_EPSILON)
+	{
+		normalized = axis / length;
+		return true;
+	}
+	// scaled by its largest component first, so a tiny axis (1e-30, whose squared length underflows) or a huge one
+	// still normalizes
+	const btScalar largest = btMax(btFabs(axis.x()), btMax(btFabs(axis.y()), btFabs(axis.z())));
+	if (largest == 0) return fail(fn, (std::string(param) + " must not be the zero vector").c_str());
+	const btVector3 scaled = axis / largest;
+	normalized = scaled / scaled.length();
+	return true;
 }
 
 bool isRigidFrame(const btTransform& frame)
@@ -66,14 +105,14 @@ bool isRigidFrame(const btTransform& frame)
 	return basis.determinant() > 0;
 }
 
-void rigidFrame(const char* fn, const char* param, const btTransform& frame)
+bool rigidFrame(const char* fn, const char* param, const btTransform& frame)
 {
-	pivot(fn, (std::string(param) + " origin").c_str(), frame.getOrigin());
-	if (!isRigidFrame(frame))
-		fail(fn, (std::string(param) + " basis must be orthonormal and right-handed (a rotation)").c_str());
+	if (!pivot(fn, (std::string(param) + " origin").c_str(), frame.getOrigin())) return false;
+	return isRigidFrame(frame) ||
+		   fail(fn, (std::string(param) + " basis must be orthonormal and right-handed (a rotation)").c_str());
 }
 
-void inRange(const char* fn, const char* param, btScalar value, btScalar lo, bool loIncluded, btScalar hi,
+bool inRange(const char* fn, const char* param, btScalar value, btScalar lo, bool loIncluded, btScalar hi,
 			 bool hiIncluded)
 {
 	const bool aboveLo = loIncluded ? value >= lo : value > lo;
@@ -82,23 +121,24 @@ void inRange(const char* fn, const char* param, btScalar value, btScalar lo, boo
 	{
 		std::ostringstream what;
 		what << "must be in " << (loIncluded ? "[" : "(") << lo << ", " << hi << (hiIncluded ? "]" : ")");
-		fail(fn, param, what.str().c_str(), value);
+		return fail(fn, param, what.str().c_str(), value);
 	}
+	return true;
 }
 
-void angle(const char* fn, const char* param, btScalar value)
+bool angle(const char* fn, const char* param, btScalar value)
 {
-	inRange(fn, param, value, -kMaxAngle, true, kMaxAngle, true);
+	return inRange(fn, param, value, -kMaxAngle, true, kMaxAngle, true);
 }
 
-void nonNegative(const char* fn, const char* param, btScalar value)
+bool nonNegative(const char* fn, const char* param, btScalar value)
 {
-	if (!(value >= 0)) fail(fn, param, "must be >= 0", value);
+	return value >= 0 || fail(fn, param, "must be >= 0", value);
 }
 
-void positive(const char* fn, const char* param, btScalar value)
+bool positive(const char* fn, const char* param, btScalar value)
 {
-	if (!(value > 0)) fail(fn, param, "must be > 0", value);
+	return value > 0 || fail(fn, param, "must be > 0", value);
 }
 
 }  // namespace check

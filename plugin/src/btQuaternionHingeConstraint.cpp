@@ -67,9 +67,9 @@ bool isStaticLike(const btRigidBody& body)
 	return body.getInvMass() == 0 && body.getInvInertiaDiagLocal().isZero();
 }
 
-void checkBodies(const char* fn, const btRigidBody& rbA, const btRigidBody& rbB)
+bool checkBodies(const char* fn, const btRigidBody& rbA, const btRigidBody& rbB)
 {
-	if (&rbA == &rbB) check::fail(fn, "rbB is the same body as rbA (a joint needs two bodies)");
+	return &rbA != &rbB || check::fail(fn, "rbB is the same body as rbA (a joint needs two bodies)");
 }
 
 // The user angle α = σθ: σ = +1 with useReferenceFrameA, −1 without (btHingeConstraint::getHingeAngle's sign).
@@ -85,11 +85,14 @@ btQuaternionHingeConstraint::btQuaternionHingeConstraint(btRigidBody& rbA, btRig
 	: btTypedConstraint(QUATERNION_HINGE_CONSTRAINT_TYPE, rbA, rbB)
 {
 	const char* fn = "btQuaternionHingeConstraint(rbA, rbB, pivotInA, pivotInB, axisInA, axisInB)";
-	checkBodies(fn, rbA, rbB);
-	check::pivot(fn, "pivotInA", pivotInA);
-	check::pivot(fn, "pivotInB", pivotInB);
-	const btVector3 axisA = check::unitAxis(fn, "axisInA", axisInA);
-	const btVector3 axisB = check::unitAxis(fn, "axisInB", axisInB);
+	btVector3 axisA, axisB;
+	if (!checkBodies(fn, rbA, rbB) || !check::pivot(fn, "pivotInA", pivotInA) ||
+		!check::pivot(fn, "pivotInB", pivotInB) || !check::direction(fn, "axisInA", axisInA, axisA) ||
+		!check::direction(fn, "axisInB", axisInB, axisB))
+	{
+		refuseConstruction();
+		return;
+	}
 
 	// Frames chosen exactly as btHingeConstraint chooses them, so that the zero angle is the same.
 	btVector3 axisA1 = rbA.getCenterOfMassTransform().getBasis().getColumn(0);
@@ -124,8 +127,12 @@ btQuaternionHingeConstraint::btQuaternionHingeConstraint(btRigidBody& rbA, const
 	: btTypedConstraint(QUATERNION_HINGE_CONSTRAINT_TYPE, rbA)
 {
 	const char* fn = "btQuaternionHingeConstraint(rbA, pivotInA, axisInA)";
-	check::pivot(fn, "pivotInA", pivotInA);
-	const btVector3 axisA = check::unitAxis(fn, "axisInA", axisInA);
+	btVector3 axisA;
+	if (!check::pivot(fn, "pivotInA", pivotInA) || !check::direction(fn, "axisInA", axisInA, axisA))
+	{
+		refuseConstruction();
+		return;
+	}
 
 	// As btHingeConstraint: body B is the world; its frame is A's frame as it is now, in world coordinates.
 	btVector3 axisA1, axisA2;
@@ -134,10 +141,14 @@ btQuaternionHingeConstraint::btQuaternionHingeConstraint(btRigidBody& rbA, const
 	const btVector3 axisB1 = arcTurnedColumn(axisA, axisA1, axisB);
 	const btVector3 axisB2 = axisB.cross(axisB1);
 
+	const btTransform frameB(basisFromColumns(axisB1, axisB2, axisB), rbA.getCenterOfMassTransform()(pivotInA));
+	if (!check::rigidFrame(fn, "world frame derived for B from rbA's pose", frameB))
+	{
+		refuseConstruction();
+		return;
+	}
 	m_settings.frameInA = btTransform(basisFromColumns(axisA1, axisA2, axisA), pivotInA);
-	m_settings.frameInB =
-		btTransform(basisFromColumns(axisB1, axisB2, axisB), rbA.getCenterOfMassTransform()(pivotInA));
-	check::rigidFrame(fn, "world frame derived for B from rbA's pose", m_settings.frameInB);
+	m_settings.frameInB = frameB;
 	m_settings.useReferenceFrameA = useReferenceFrameA;
 	initFromSettings();
 }
@@ -148,9 +159,12 @@ btQuaternionHingeConstraint::btQuaternionHingeConstraint(btRigidBody& rbA, btRig
 	: btTypedConstraint(QUATERNION_HINGE_CONSTRAINT_TYPE, rbA, rbB)
 {
 	const char* fn = "btQuaternionHingeConstraint(rbA, rbB, rbAFrame, rbBFrame)";
-	checkBodies(fn, rbA, rbB);
-	check::rigidFrame(fn, "rbAFrame", rbAFrame);
-	check::rigidFrame(fn, "rbBFrame", rbBFrame);
+	if (!checkBodies(fn, rbA, rbB) || !check::rigidFrame(fn, "rbAFrame", rbAFrame) ||
+		!check::rigidFrame(fn, "rbBFrame", rbBFrame))
+	{
+		refuseConstruction();
+		return;
+	}
 	m_settings.frameInA = rbAFrame;
 	m_settings.frameInB = rbBFrame;
 	m_settings.useReferenceFrameA = useReferenceFrameA;
@@ -162,11 +176,16 @@ btQuaternionHingeConstraint::btQuaternionHingeConstraint(btRigidBody& rbA, const
 	: btTypedConstraint(QUATERNION_HINGE_CONSTRAINT_TYPE, rbA)
 {
 	const char* fn = "btQuaternionHingeConstraint(rbA, rbAFrame)";
-	check::rigidFrame(fn, "rbAFrame", rbAFrame);
 	// As btHingeConstraint: B's frame has A's basis and A's pivot in world coordinates.
+	const btTransform frameB(rbAFrame.getBasis(), rbA.getCenterOfMassTransform()(rbAFrame.getOrigin()));
+	if (!check::rigidFrame(fn, "rbAFrame", rbAFrame) ||
+		!check::rigidFrame(fn, "world frame derived for B from rbA's pose", frameB))
+	{
+		refuseConstruction();
+		return;
+	}
 	m_settings.frameInA = rbAFrame;
-	m_settings.frameInB = btTransform(rbAFrame.getBasis(), rbA.getCenterOfMassTransform()(rbAFrame.getOrigin()));
-	check::rigidFrame(fn, "world frame derived for B from rbA's pose", m_settings.frameInB);
+	m_settings.frameInB = frameB;
 	m_settings.useReferenceFrameA = useReferenceFrameA;
 	initFromSettings();
 }
@@ -176,16 +195,21 @@ btQuaternionHingeConstraint::btQuaternionHingeConstraint(btRigidBody& rbA, btRig
 	: btTypedConstraint(QUATERNION_HINGE_CONSTRAINT_TYPE, rbA, rbB)
 {
 	const char* fn = "btQuaternionHingeConstraint(rbA, rbB, settings)";
-	checkBodies(fn, rbA, rbB);
-	check::rigidFrame(fn, "settings.frameInA", settings.frameInA);
-	check::rigidFrame(fn, "settings.frameInB", settings.frameInB);
+	if (!checkBodies(fn, rbA, rbB) || !check::rigidFrame(fn, "settings.frameInA", settings.frameInA) ||
+		!check::rigidFrame(fn, "settings.frameInB", settings.frameInB))
+	{
+		refuseConstruction();
+		return;
+	}
 	m_settings.frameInA = settings.frameInA;
 	m_settings.frameInB = settings.frameInB;
 	m_settings.useReferenceFrameA = settings.useReferenceFrameA;
 	m_settings.angularOnly = settings.angularOnly;
 	m_settings.useFrameOffset = settings.useFrameOffset;
 	initFromSettings();
-	// Everything else through the checked setters, so a corrupt settings struct is refused like any other input.
+	// Everything else through the checked setters, so a corrupt settings struct is refused like any other input
+	// (without exceptions: any refusal among them refuses the whole construction).
+	const unsigned refusalsBefore = check::refusals();
 	for (int kind = 0; kind < 6; ++kind)
 	{
 		if (settings.flags & (BT_QHINGE_FLAGS_ERP_ROW0 << kind)) setParam(BT_CONSTRAINT_ERP, settings.rowErp[kind], kind);
@@ -193,9 +217,10 @@ btQuaternionHingeConstraint::btQuaternionHingeConstraint(btRigidBody& rbA, btRig
 	}
 	if (settings.flags & BT_QHINGE_FLAGS_ERP_STOP) setParam(BT_CONSTRAINT_STOP_ERP, settings.stopErp);
 	if (settings.flags & BT_QHINGE_FLAGS_CFM_STOP) setParam(BT_CONSTRAINT_STOP_CFM, settings.stopCfm);
-	if (settings.hasLimit)
-		setLimit(settings.lowerLimit, settings.upperLimit, settings.limitSoftness, settings.limitBiasFactor,
-				 settings.limitRelaxationFactor);
+	// A limit that does not act (settings.hasLimit false) keeps its values, as stock keeps a freed limit's.
+	setLimit(settings.lowerLimit, settings.upperLimit, settings.limitSoftness, settings.limitBiasFactor,
+			 settings.limitRelaxationFactor);
+	if (!settings.hasLimit) removeLimit();
 	switch (settings.driveMode)
 	{
 		case BT_QHINGE_DRIVE_VELOCITY:
@@ -216,6 +241,30 @@ btQuaternionHingeConstraint::btQuaternionHingeConstraint(btRigidBody& rbA, btRig
 			check::fail(fn, "settings.driveMode", "is not a btQuaternionHingeDriveMode", btScalar(settings.driveMode));
 	}
 	setMaxFrictionTorque(settings.maxFrictionTorque);
+	if (check::refusals() != refusalsBefore) refuseConstruction();
+}
+
+btQuaternionHingeConstraint* btQuaternionHingeConstraint::upcast(btTypedConstraint* constraint)
+{
+	// The number rules out every Bullet constraint at the cost of a load; dynamic_cast settles a number shared with
+	// another plugin by the object's own type (which no other class can claim).
+	if (!constraint || constraint->getConstraintType() != QUATERNION_HINGE_CONSTRAINT_TYPE) return nullptr;
+	return dynamic_cast<btQuaternionHingeConstraint*>(constraint);
+}
+
+const btQuaternionHingeConstraint* btQuaternionHingeConstraint::upcast(const btTypedConstraint* constraint)
+{
+	if (!constraint || constraint->getConstraintType() != QUATERNION_HINGE_CONSTRAINT_TYPE) return nullptr;
+	return dynamic_cast<const btQuaternionHingeConstraint*>(constraint);
+}
+
+void btQuaternionHingeConstraint::refuseConstruction()
+{
+	// Only reached without exceptions (with them the check threw): a safe joint that never gives the solver a row.
+	m_settings = btQuaternionHingeSettings();
+	initFromSettings();
+	m_fault = BT_QHINGE_FAULT_INVALID_ARGUMENT;
+	setEnabled(false);
 }
 
 namespace
@@ -323,8 +372,7 @@ void btQuaternionHingeConstraint::validateFramesIfEdited()
 void btQuaternionHingeConstraint::setFrames(const btTransform& frameA, const btTransform& frameB)
 {
 	const char* fn = "btQuaternionHingeConstraint::setFrames";
-	check::rigidFrame(fn, "frameA", frameA);
-	check::rigidFrame(fn, "frameB", frameB);
+	if (!check::rigidFrame(fn, "frameA", frameA) || !check::rigidFrame(fn, "frameB", frameB)) return;
 	m_settings.frameInA = frameA;
 	m_settings.frameInB = frameB;
 	m_checkedFrameA = frameA;
@@ -334,7 +382,8 @@ void btQuaternionHingeConstraint::setFrames(const btTransform& frameA, const btT
 
 void btQuaternionHingeConstraint::setAxis(btVector3& axisInA)
 {
-	const btVector3 axisA = check::unitAxis("btQuaternionHingeConstraint::setAxis", "axisInA", axisInA);
+	btVector3 axisA;
+	if (!check::direction("btQuaternionHingeConstraint::setAxis", "axisInA", axisInA, axisA)) return;
 	// As btHingeConstraint::setAxis: A's frame gets the new axis; B's frame is derived from the current pose.
 	btVector3 axisA1, axisA2;
 	btPlaneSpace1(axisA, axisA1, axisA2);
@@ -345,7 +394,8 @@ void btQuaternionHingeConstraint::setAxis(btVector3& axisInA)
 	// B's frame: A's joint frame as it is now in world coordinates, expressed in B — checked like a given frame (two
 	// bodies 1e9 m apart would put B's pivot 1e9 m from it), before anything changes.
 	const btTransform frameB(transB.getBasis().transposeTimes(transA.getBasis() * basisA), transB.inverse()(transA(pivotInA)));
-	check::rigidFrame("btQuaternionHingeConstraint::setAxis", "frame derived for B from the bodies' poses", frameB);
+	if (!check::rigidFrame("btQuaternionHingeConstraint::setAxis", "frame derived for B from the bodies' poses", frameB))
+		return;
 	m_settings.frameInA.setBasis(basisA);
 	m_settings.frameInB = frameB;
 	m_checkedFrameA = m_settings.frameInA;
@@ -364,9 +414,9 @@ void btQuaternionHingeConstraint::setUseReferenceFrameA(bool useReferenceFrameA)
 void btQuaternionHingeConstraint::enableAngularMotor(bool enable, btScalar targetVelocity, btScalar maxMotorImpulse)
 {
 	const char* fn = "btQuaternionHingeConstraint::enableAngularMotor";
-	check::finite(fn, "targetVelocity", targetVelocity);
-	check::finite(fn, "maxMotorImpulse", maxMotorImpulse);
-	check::nonNegative(fn, "maxMotorImpulse", maxMotorImpulse);
+	if (!check::finite(fn, "targetVelocity", targetVelocity) || !check::finite(fn, "maxMotorImpulse", maxMotorImpulse) ||
+		!check::nonNegative(fn, "maxMotorImpulse", maxMotorImpulse))
+		return;
 	m_settings.motorTargetVelocity = targetVelocity;
 	m_settings.maxMotorImpulse = maxMotorImpulse;
 	enableMotor(enable);
@@ -381,54 +431,66 @@ void btQuaternionHingeConstraint::enableMotor(bool enable)
 void btQuaternionHingeConstraint::setMaxMotorImpulse(btScalar maxMotorImpulse)
 {
 	const char* fn = "btQuaternionHingeConstraint::setMaxMotorImpulse";
-	check::finite(fn, "maxMotorImpulse", maxMotorImpulse);
-	check::nonNegative(fn, "maxMotorImpulse", maxMotorImpulse);
+	if (!check::finite(fn, "maxMotorImpulse", maxMotorImpulse) || !check::nonNegative(fn, "maxMotorImpulse", maxMotorImpulse))
+		return;
 	m_settings.maxMotorImpulse = maxMotorImpulse;
 }
 
 void btQuaternionHingeConstraint::setMotorTargetVelocity(btScalar motorTargetVelocity)
 {
-	check::finite("btQuaternionHingeConstraint::setMotorTargetVelocity", "motorTargetVelocity", motorTargetVelocity);
+	if (!check::finite("btQuaternionHingeConstraint::setMotorTargetVelocity", "motorTargetVelocity", motorTargetVelocity))
+		return;
 	m_settings.motorTargetVelocity = motorTargetVelocity;
 }
 
 void btQuaternionHingeConstraint::setMotorTarget(btScalar targetAngle, btScalar dt)
 {
 	const char* fn = "btQuaternionHingeConstraint::setMotorTarget";
-	check::angle(fn, "targetAngle", targetAngle);
-	check::finite(fn, "dt", dt);
-	check::positive(fn, "dt", dt);
-	// As stock: clamp the target into the limit, then the velocity that gets there in dt. Stock compares with the
-	// wrapped angle; here the multi-turn angle is used when it is tracked, so targets beyond ±π work.
-	if (m_settings.hasLimit) targetAngle = btMax(m_settings.lowerLimit, btMin(m_settings.upperLimit, targetAngle));
-	const btScalar current = m_multiTurnValid ? m_multiTurnAngle : getHingeAngle();
+	if (!check::angle(fn, "targetAngle", targetAngle) || !check::finite(fn, "dt", dt) || !check::positive(fn, "dt", dt))
+		return;
+	// As stock: clamp the target into a limit with a range (stock's btAngularLimit::fit acts only when high > low),
+	// then the velocity that gets there in dt from the angle of the bodies' current pose. Stock compares with the
+	// wrapped angle; here with the multi-turn angle when it is tracked (continued to the current pose), so targets
+	// beyond ±π work.
+	if (hasLimit()) targetAngle = btMax(m_settings.lowerLimit, btMin(m_settings.upperLimit, targetAngle));
+	const btScalar raw = getHingeAngle();
+	const btScalar current = m_multiTurnValid ? continueAngle(m_multiTurnAngle, raw) : raw;
 	const btScalar velocity = (targetAngle - current) / dt;
 	// a denormal dt (1e-38 s) turns any angle difference into an infinite velocity: refused, nothing changed
 	if (!std::isfinite(velocity))
+	{
 		check::fail(fn, "dt", "is too small: (targetAngle - angle) / dt is not a finite velocity", dt);
+		return;
+	}
 	m_settings.motorTargetVelocity = velocity;
 }
 
 void btQuaternionHingeConstraint::setMotorTarget(const btQuaternion& qAinB, btScalar dt)
 {
 	const char* fn = "btQuaternionHingeConstraint::setMotorTarget";
-	for (int i = 0; i < 4; ++i) check::finite(fn, "qAinB", qAinB[i]);
-	if (qAinB.length2() == 0) check::fail(fn, "qAinB must not be the zero quaternion");
-	// As stock: the rotation in constraint space, its hinge (twist) part, and its angle. The twist angle of
-	// frameB⁻¹ qAinB frameA about ẑ is −θ of the pose it describes (A relative to B), which is stock's angle.
+	for (int i = 0; i < 4; ++i)
+		if (!check::finite(fn, "qAinB", qAinB[i])) return;
+	if (qAinB.length2() == 0)
+	{
+		check::fail(fn, "qAinB must not be the zero quaternion");
+		return;
+	}
+	// As stock: the rotation in constraint space, its hinge (twist) part about ẑ, and that angle as the target. The
+	// twist of frameB⁻¹ qAinB frameA is the angle of A relative to B (−θ of the pose it describes), which is
+	// getHingeAngle() without useReferenceFrameA; stock passes it on unchanged with useReferenceFrameA too (where
+	// getHingeAngle() is θ), and so does this.
 	btQuaternion qConstraint =
 		m_settings.frameInB.getRotation().inverse() * qAinB.normalized() * m_settings.frameInA.getRotation();
 	qConstraint.normalize();
-	const btScalar theta = hingeAngle(qConstraint.inverse());  // θ of B relative to A (Q11)
-	setMotorTarget(userSign(m_settings.useReferenceFrameA) * theta, dt);
+	setMotorTarget(hingeAngle(qConstraint), dt);
 }
 
 void btQuaternionHingeConstraint::setServoTarget(btScalar targetAngle, btScalar maxSpeed, btScalar maxTorque)
 {
 	const char* fn = "btQuaternionHingeConstraint::setServoTarget";
-	check::angle(fn, "targetAngle", targetAngle);
-	check::positive(fn, "maxSpeed", maxSpeed);
-	check::nonNegative(fn, "maxTorque", maxTorque);
+	if (!check::angle(fn, "targetAngle", targetAngle) || !check::positive(fn, "maxSpeed", maxSpeed) ||
+		!check::nonNegative(fn, "maxTorque", maxTorque))
+		return;
 	m_settings.servoTargetAngle = targetAngle;
 	m_settings.servoMaxSpeed = maxSpeed;
 	m_settings.servoMaxTorque = maxTorque;
@@ -438,10 +500,10 @@ void btQuaternionHingeConstraint::setServoTarget(btScalar targetAngle, btScalar 
 void btQuaternionHingeConstraint::setSpring(btScalar restAngle, btScalar frequencyHz, btScalar dampingRatio)
 {
 	const char* fn = "btQuaternionHingeConstraint::setSpring";
-	check::angle(fn, "restAngle", restAngle);
-	check::inRange(fn, "frequencyHz", frequencyHz, 0, false, check::kMaxSpringFrequency, true);
-	check::finite(fn, "dampingRatio", dampingRatio);
-	check::nonNegative(fn, "dampingRatio", dampingRatio);
+	if (!check::angle(fn, "restAngle", restAngle) ||
+		!check::inRange(fn, "frequencyHz", frequencyHz, 0, false, check::kMaxSpringFrequency, true) ||
+		!check::finite(fn, "dampingRatio", dampingRatio) || !check::nonNegative(fn, "dampingRatio", dampingRatio))
+		return;
 	m_settings.springRestAngle = restAngle;
 	m_settings.springFrequency = frequencyHz;
 	m_settings.springDampingRatio = dampingRatio;
@@ -453,8 +515,7 @@ void btQuaternionHingeConstraint::disableDrive() { m_settings.driveMode = BT_QHI
 void btQuaternionHingeConstraint::setMaxFrictionTorque(btScalar maxTorque)
 {
 	const char* fn = "btQuaternionHingeConstraint::setMaxFrictionTorque";
-	check::finite(fn, "maxTorque", maxTorque);
-	check::nonNegative(fn, "maxTorque", maxTorque);
+	if (!check::finite(fn, "maxTorque", maxTorque) || !check::nonNegative(fn, "maxTorque", maxTorque)) return;
 	m_settings.maxFrictionTorque = maxTorque;
 }
 
@@ -463,32 +524,37 @@ void btQuaternionHingeConstraint::setMaxFrictionTorque(btScalar maxTorque)
 void btQuaternionHingeConstraint::setLimit(btScalar low, btScalar high, btScalar softness, btScalar biasFactor,
 										   btScalar relaxationFactor)
 {
+	// Stock's meaning for everything stock accepts (btAngularLimit::set): low > high is a limit that never acts (a
+	// free joint; stock's URDF importer and Godot pass such pairs for "no limit"), low == high locks the hinge, and
+	// softness, bias and relaxation are any finite numbers. Refused: NaN or infinite factors, a NaN end, and the ends
+	// that have no angle (low at +∞, high at −∞) or no float precision left (a finite low above 1e6 rad, or high below
+	// −1e6 rad, with low ≤ high).
 	const char* fn = "btQuaternionHingeConstraint::setLimit";
-	if (std::isnan(low)) check::fail(fn, "low", "must not be NaN", low);
-	if (std::isnan(high)) check::fail(fn, "high", "must not be NaN", high);
-	// A side at or beyond ±BT_LARGE_FLOAT (±SIMD_INFINITY, ±inf) means no stop on that side, stored as ±inf.
-	if (low >= BT_LARGE_FLOAT) check::fail(fn, "low", "must be below +infinity", low);
-	if (high <= -BT_LARGE_FLOAT) check::fail(fn, "high", "must be above -infinity", high);
-	if (low <= -BT_LARGE_FLOAT) low = -std::numeric_limits<btScalar>::infinity();
-	else check::angle(fn, "low", low);
-	if (high >= BT_LARGE_FLOAT) high = std::numeric_limits<btScalar>::infinity();
-	else check::angle(fn, "high", high);
-	if (low > high)
+	if (std::isnan(low) && !check::fail(fn, "low", "must not be NaN", low)) return;
+	if (std::isnan(high) && !check::fail(fn, "high", "must not be NaN", high)) return;
+	if (!check::finite(fn, "softness", softness) || !check::finite(fn, "biasFactor", biasFactor) ||
+		!check::finite(fn, "relaxationFactor", relaxationFactor))
+		return;
+	const bool acts = low <= high;
+	if (acts)
 	{
-		std::ostringstream message;
-		message << "low (" << low << ") > high (" << high << "); call removeLimit() to free the joint";
-		check::fail(fn, message.str().c_str());
+		// A side at or beyond ±BT_LARGE_FLOAT (±SIMD_INFINITY, ±inf) or beyond ±1e6 rad (SDF's ±1e16: 160 000 turns,
+		// which no stop can mean) has no stop: stored as ±inf.
+		if (low >= BT_LARGE_FLOAT && !check::fail(fn, "low", "must be below +infinity", low)) return;
+		if (high <= -BT_LARGE_FLOAT && !check::fail(fn, "high", "must be above -infinity", high)) return;
+		if (low < -check::kMaxAngle) low = -std::numeric_limits<btScalar>::infinity();
+		else if (!check::angle(fn, "low", low)) return;
+		if (high > check::kMaxAngle) high = std::numeric_limits<btScalar>::infinity();
+		else if (!check::angle(fn, "high", high)) return;
 	}
-	check::inRange(fn, "softness", softness, 0, false, 1, true);
-	check::inRange(fn, "biasFactor", biasFactor, 0, true, 1, true);
-	check::inRange(fn, "relaxationFactor", relaxationFactor, 0, true, 1, true);
-	m_settings.hasLimit = true;
+	m_settings.hasLimit = acts;
 	m_settings.lowerLimit = low;
 	m_settings.upperLimit = high;
 	m_settings.limitSoftness = softness;
 	m_settings.limitBiasFactor = biasFactor;
 	m_settings.limitRelaxationFactor = relaxationFactor;
-	rebranchForLimit();
+	if (acts) rebranchForLimit();
+	else m_limitSign = 0;
 }
 
 void btQuaternionHingeConstraint::removeLimit()
@@ -548,7 +614,7 @@ btScalar btQuaternionHingeConstraint::getMultiTurnAngle()
 void btQuaternionHingeConstraint::setMultiTurnAngle(btScalar angle)
 {
 	const char* fn = "btQuaternionHingeConstraint::setMultiTurnAngle";
-	check::angle(fn, "angle", angle);
+	if (!check::angle(fn, "angle", angle)) return;
 	const btScalar raw = getHingeAngle();
 	// 1e-3 rad: generous against float round-off of the pose, far below any distinct angle a user means
 	if (btFabs(wrapAngle(angle - raw)) > btScalar(1e-3))
@@ -556,6 +622,7 @@ void btQuaternionHingeConstraint::setMultiTurnAngle(btScalar angle)
 		std::ostringstream message;
 		message << "angle (" << angle << ") is not the current hinge angle (" << raw << ") plus whole turns";
 		check::fail(fn, message.str().c_str());
+		return;
 	}
 	m_multiTurnAngle = raw + (angle - raw - wrapAngle(angle - raw));
 	m_multiTurnValid = true;
@@ -586,78 +653,96 @@ void btQuaternionHingeConstraint::testLimit(const btTransform& transA, const btT
 
 void btQuaternionHingeConstraint::setParam(int num, btScalar value, int axis)
 {
+	// Stock's meaning for axis −1 and 5 (btHingeConstraint::setParam treats both as "the joint"): its normal ERP acts
+	// on every row, its normal CFM on the motor row only, STOP_* on the limit row. Axes 0..4 (which stock ignores)
+	// reach the linear and quaternion rows one kind at a time.
 	const char* fn = "btQuaternionHingeConstraint::setParam";
-	if (axis < -1 || axis > 5) check::fail(fn, "axis", "must be -1 (all rows) or 0..5", btScalar(axis));
+	if (axis < -1 || axis > 5)
+	{
+		check::fail(fn, "axis", "must be -1 (the joint) or 0..5", btScalar(axis));
+		return;
+	}
+	const char* name = num == BT_CONSTRAINT_ERP		 ? "value (ERP)"
+					   : num == BT_CONSTRAINT_CFM	 ? "value (CFM)"
+					   : num == BT_CONSTRAINT_STOP_ERP ? "value (STOP_ERP)"
+												   : "value (STOP_CFM)";
+	if (num != BT_CONSTRAINT_ERP && num != BT_CONSTRAINT_CFM && num != BT_CONSTRAINT_STOP_ERP &&
+		num != BT_CONSTRAINT_STOP_CFM)
+	{
+		check::fail(fn, "num", "must be BT_CONSTRAINT_ERP, _STOP_ERP, _CFM or _STOP_CFM", btScalar(num));
+		return;
+	}
+	// Finite, ERP in [0, 2) and CFM in [0, 1): stock takes any value, but a negative one asks for error growth or a
+	// negative compliance, an ERP of 2 or more overshoots by more than it corrects, and a CFM of 1 or more makes
+	// Bullet's Gauss–Seidel update diverge on an unbounded row (stock's CFM reaches only its bounded motor row; here
+	// a servo row may be unbounded): no value there has a meaning a solve can reach.
+	const bool erpLike = num == BT_CONSTRAINT_ERP || num == BT_CONSTRAINT_STOP_ERP;
+	if (!check::inRange(fn, name, value, 0, true, erpLike ? btScalar(2) : btScalar(1), false)) return;
+	const bool joint = axis == -1 || axis == kAxialKind;
 	switch (num)
 	{
 		case BT_CONSTRAINT_ERP:
-		case BT_CONSTRAINT_CFM:
 		{
-			const bool erp = num == BT_CONSTRAINT_ERP;
-			if (erp) check::inRange(fn, "value (ERP)", value, 0, true, 1, true);
-			else check::inRange(fn, "value (CFM)", value, 0, true, 1, false);
-			const int first = axis < 0 ? 0 : axis, last = axis < 0 ? 5 : axis;
+			const int first = joint ? 0 : axis, last = joint ? 5 : axis;
 			for (int kind = first; kind <= last; ++kind)
 			{
-				(erp ? m_settings.rowErp : m_settings.rowCfm)[kind] = value;
-				m_settings.flags |= (erp ? BT_QHINGE_FLAGS_ERP_ROW0 : BT_QHINGE_FLAGS_CFM_ROW0) << kind;
+				m_settings.rowErp[kind] = value;
+				m_settings.flags |= BT_QHINGE_FLAGS_ERP_ROW0 << kind;
 			}
-			m_settings.flags |= erp ? BT_QHINGE_FLAGS_ERP_NORM : BT_QHINGE_FLAGS_CFM_NORM;
+			m_settings.flags |= BT_QHINGE_FLAGS_ERP_NORM;
+			break;
+		}
+		case BT_CONSTRAINT_CFM:
+		{
+			const int kind = joint ? kAxialKind : axis;
+			m_settings.rowCfm[kind] = value;
+			m_settings.flags |= (BT_QHINGE_FLAGS_CFM_ROW0 << kind) | BT_QHINGE_FLAGS_CFM_NORM;
 			break;
 		}
 		case BT_CONSTRAINT_STOP_ERP:
 		case BT_CONSTRAINT_STOP_CFM:
-		{
-			if (axis != -1 && axis != 5)
+			if (!joint)
+			{
 				check::fail(fn, "axis", "must be -1 or 5 for STOP_ERP/STOP_CFM (the limit row)", btScalar(axis));
+				return;
+			}
 			if (num == BT_CONSTRAINT_STOP_ERP)
 			{
-				check::inRange(fn, "value (STOP_ERP)", value, 0, true, 1, true);
 				m_settings.stopErp = value;
 				m_settings.flags |= BT_QHINGE_FLAGS_ERP_STOP;
 			}
 			else
 			{
-				check::inRange(fn, "value (STOP_CFM)", value, 0, true, 1, false);
 				m_settings.stopCfm = value;
 				m_settings.flags |= BT_QHINGE_FLAGS_CFM_STOP;
 			}
 			break;
-		}
 		default:
-			check::fail(fn, "num", "must be BT_CONSTRAINT_ERP, _STOP_ERP, _CFM or _STOP_CFM", btScalar(num));
+			break;  // refused above
 	}
 }
 
 btScalar btQuaternionHingeConstraint::getParam(int num, int axis) const
 {
-	const char* fn = "btQuaternionHingeConstraint::getParam";
-	if (axis < -1 || axis > 5) check::fail(fn, "axis", "must be -1 or 0..5", btScalar(axis));
-	const int kind = axis < 0 ? kAxialKind : axis;  // −1 reads the value btHingeConstraint's default axis (5) has
-	int flag = 0;
-	btScalar value = 0;
+	// As stock: the value set, else 0 (stock's members start at 0); an unknown num or axis gives 0 (stock asserts in
+	// a debug build and returns 0). Never throws: a const getter.
+	if (axis < -1 || axis > 5) return 0;
+	const int kind = axis < 0 ? kAxialKind : axis;
 	switch (num)
 	{
 		case BT_CONSTRAINT_ERP:
-			flag = BT_QHINGE_FLAGS_ERP_ROW0 << kind;
-			value = m_settings.rowErp[kind];
-			break;
+			return (m_settings.flags & (BT_QHINGE_FLAGS_ERP_ROW0 << kind)) ? m_settings.rowErp[kind] : btScalar(0);
 		case BT_CONSTRAINT_CFM:
-			flag = BT_QHINGE_FLAGS_CFM_ROW0 << kind;
-			value = m_settings.rowCfm[kind];
-			break;
+			return (m_settings.flags & (BT_QHINGE_FLAGS_CFM_ROW0 << kind)) ? m_settings.rowCfm[kind] : btScalar(0);
 		case BT_CONSTRAINT_STOP_ERP:
+			if (kind != kAxialKind) return 0;
+			return (m_settings.flags & BT_QHINGE_FLAGS_ERP_STOP) ? m_settings.stopErp : btScalar(0);
 		case BT_CONSTRAINT_STOP_CFM:
-			if (axis != -1 && axis != 5) check::fail(fn, "axis", "must be -1 or 5 for STOP_ERP/STOP_CFM", btScalar(axis));
-			flag = num == BT_CONSTRAINT_STOP_ERP ? BT_QHINGE_FLAGS_ERP_STOP : BT_QHINGE_FLAGS_CFM_STOP;
-			value = num == BT_CONSTRAINT_STOP_ERP ? m_settings.stopErp : m_settings.stopCfm;
-			break;
+			if (kind != kAxialKind) return 0;
+			return (m_settings.flags & BT_QHINGE_FLAGS_CFM_STOP) ? m_settings.stopCfm : btScalar(0);
 		default:
-			check::fail(fn, "num", "must be BT_CONSTRAINT_ERP, _STOP_ERP, _CFM or _STOP_CFM", btScalar(num));
+			return 0;
 	}
-	if (!(m_settings.flags & flag))
-		check::fail(fn, "num", "has no value set for this axis (the solver's global value is in effect)", btScalar(num));
-	return value;
 }
 
 btScalar btQuaternionHingeConstraint::rowErp(int kind, btScalar globalErp) const
@@ -674,7 +759,9 @@ btScalar btQuaternionHingeConstraint::rowCfm(int kind, btScalar globalCfm) const
 
 void btQuaternionHingeConstraint::clearFault()
 {
-	// A refused frame edit is not cleared until the frames are rigid again (else the refused frame would be used).
+	// A refused frame edit is not cleared until the frames are rigid again (else the refused frame would be used); a
+	// refused construction never is (the joint has no configuration to return to).
+	if (m_fault == BT_QHINGE_FAULT_INVALID_ARGUMENT) return;
 	m_fault = BT_QHINGE_FAULT_NONE;
 	validateFramesIfEdited();
 	setEnabled(m_fault == BT_QHINGE_FAULT_NONE);
@@ -685,7 +772,22 @@ void btQuaternionHingeConstraint::getInfo1(btConstraintInfo1* info)
 	computeRowCount(info, m_rbA.getCenterOfMassTransform(), m_rbB.getCenterOfMassTransform());
 }
 
-void btQuaternionHingeConstraint::getInfo1NonVirtual(btConstraintInfo1* info) { getInfo1(info); }
+void btQuaternionHingeConstraint::getInfo1NonVirtual(btConstraintInfo1* info)
+{
+	// Bullet's non-virtual path: getInfo2NonVirtual tests the limit again at transforms this call never sees, so the
+	// reservation must hold every row it may write (stock reserves its 6 here for the same reason): the bilateral
+	// rows, the drive and friction rows when on, and a limit row whenever a limit acts, needed or not. A reserved row
+	// left unwritten stays the solver's zero row (no effect). getInfo1's checks (faults, body state) still decide
+	// whether there are any rows at all.
+	computeRowCount(info, m_rbA.getCenterOfMassTransform(), m_rbB.getCenterOfMassTransform());
+	if (info->m_numConstraintRows == 0) return;
+	int rows = m_settings.angularOnly ? 2 : 5;
+	if (m_settings.hasLimit) ++rows;
+	if (driveActive(m_settings)) ++rows;
+	if (m_settings.maxFrictionTorque > 0) ++rows;
+	info->m_numConstraintRows = rows;
+	m_numRows = rows;
+}
 
 void btQuaternionHingeConstraint::computeRowCount(btConstraintInfo1* info, const btTransform& transA,
 												  const btTransform& transB)
@@ -696,7 +798,8 @@ void btQuaternionHingeConstraint::computeRowCount(btConstraintInfo1* info, const
 	if (m_framesMayHaveChanged) validateFramesIfEdited();
 	// A fault stands until clearFault(), even for a joint re-enabled by hand with setEnabled(true): no rows, disabled
 	// again (the stabilizer skips a faulted joint as well; the two must agree).
-	if (m_fault == BT_QHINGE_FAULT_FRAME_EDITED_INVALID || m_fault == BT_QHINGE_FAULT_NONFINITE_BODY_STATE)
+	if (m_fault == BT_QHINGE_FAULT_FRAME_EDITED_INVALID || m_fault == BT_QHINGE_FAULT_NONFINITE_BODY_STATE ||
+		m_fault == BT_QHINGE_FAULT_INVALID_ARGUMENT)
 	{
 		setEnabled(false);
 		return;
@@ -778,39 +881,73 @@ int btQuaternionHingeConstraint::fillBilateralRows(btConstraintInfo2* info, cons
 	const Lanes rA = pivotA - lanesOf(transA.getOrigin());
 	const Lanes rB = pivotB - lanesOf(transB.getOrigin());
 	const PointRowBasis basis = pointRowBasis(pose.axesA, rA, rB, m_rbA.getInvMass(), m_rbB.getInvMass());
-	int row = 0;
-	if (!angularOnly)
-	{
-		const Lanes c = pivotB - pivotA;
-		const Lanes directions[3] = {basis.p, basis.t, basis.a};
-		for (int i = 0; i < 3; ++i, ++row)
-		{
-			const Lanes& e = directions[i];
-			const int at = row * skip;
-			storeXyz(info->m_J1linearAxis + at, -e);
-			storeXyz(info->m_J2linearAxis + at, e);
-			storeXyz(info->m_J1angularAxis + at, crossLanes(e, rA));
-			storeXyz(info->m_J2angularAxis + at, crossLanes(rB, e));
-			info->m_constraintError[at] = -errorScale(kLinearKind + i) * dotXyz(e, c);
-			rowCfmOverride(kLinearKind + i, at);
-		}
-	}
 
 	// Quaternion part (Q7, Q9, Q10; the log form beyond 90°, Q12): body A −g, body B +g, error −erp·fps·C; for the
-	// solver turned within the part's plane so the first row lies along p (SolverRowBasis.h).
+	// solver turned within the part's plane so the first row lies along p (SolverRowBasis.h). Written after the point
+	// rows; computed first, as the point rows take a multiple of them (below).
 	AngularRows angular;
 	computeAngularRowsFromAxes(pose.axesA, pose.q, angular);
 	const Lanes rowU = lanesOf(angular.rowU), rowV = lanesOf(angular.rowV);
 	btScalar cosPsi, sinPsi;
 	quaternionRowTurn(rowU, rowV, basis.p, cosPsi, sinPsi);
-	const int atU = row * skip, atV = atU + skip;
 	const Lanes turnedU = rowU * cosPsi + rowV * sinPsi, turnedV = rowV * cosPsi - rowU * sinPsi;
+	const btScalar errorU = -errorScale(kAngularKind) * (cosPsi * angular.errorU + sinPsi * angular.errorV);
+	const btScalar errorV = -errorScale(kAngularKind + 1) * (cosPsi * angular.errorV - sinPsi * angular.errorU);
+
+	int row = 0;
+	if (!angularOnly)
+	{
+		// The axial parts of the lever arms (along the hinge axis a) couple a point row to the swing through the
+		// bodies' inertia across the axis: a pivot 1 m along the axis from a body's centre held 0.04 m apart after 10
+		// Gauss–Seidel sweeps where stock, which drops those parts, holds 2e-10 m. Shifting both arms by the same
+		// δ a changes a point row by −δ (a × e)·(ω_B − ω_A), which vanishes wherever the quaternion rows hold; written
+		// here as an exact row operation with them (the point row minus δ (c_u u' + c_v v') on both the Jacobian and
+		// the error, c the combination of the quaternion rows nearest a × e), so the rows keep their solution set and
+		// their exactness (SolverRowBasis.h: a change of row basis held for the step). δ as stock's: the arms' axial
+		// offsets blended by inverse mass (a static side keeps its own; the dynamic side's axial arm becomes 0).
+		const Lanes c = pivotB - pivotA;
+		const btScalar invMassSum = m_rbA.getInvMass() + m_rbB.getInvMass();
+		const btScalar weightA = invMassSum > btScalar(0) ? m_rbB.getInvMass() / invMassSum : btScalar(0.5);
+		const btScalar axialA = dotXyz(basis.a, rA), axialB = dotXyz(basis.a, rB);
+		const btScalar delta = axialA - (axialA - axialB) * weightA;
+		const btScalar uu = dotXyz(turnedU, turnedU), uv = dotXyz(turnedU, turnedV), vv = dotXyz(turnedV, turnedV);
+		const btScalar det = uu * vv - uv * uv;
+		// (not for an offset at round-off level, 8 ε of the arms: a chain whose pivots lie across its axes keeps its bits)
+		const btScalar roundOff = btScalar(8) * SIMD_EPSILON * (btSqrt(dotXyz(rA, rA)) + btSqrt(dotXyz(rB, rB)));
+		const bool shift = btFabs(delta) > roundOff && det > SIMD_EPSILON * uu * vv;
+		const Lanes directions[3] = {basis.p, basis.t, basis.a};
+		for (int i = 0; i < 3; ++i, ++row)
+		{
+			const Lanes& e = directions[i];
+			const int at = row * skip;
+			Lanes angularA = crossLanes(e, rA), angularB = crossLanes(rB, e);
+			btScalar error = -errorScale(kLinearKind + i) * dotXyz(e, c);
+			if (shift && i < 2)  // a × a = 0: the axial row needs none
+			{
+				const Lanes w = crossLanes(basis.a, e);
+				const btScalar wu = dotXyz(turnedU, w), wv = dotXyz(turnedV, w);
+				const btScalar cu = delta * (vv * wu - uv * wv) / det, cv = delta * (uu * wv - uv * wu) / det;
+				const Lanes g = turnedU * cu + turnedV * cv;
+				angularA += g;  // minus (c_u, c_v)·δ times the quaternion rows, whose A side is −g
+				angularB -= g;
+				error -= cu * errorU + cv * errorV;
+			}
+			storeXyz(info->m_J1linearAxis + at, -e);
+			storeXyz(info->m_J2linearAxis + at, e);
+			storeXyz(info->m_J1angularAxis + at, angularA);
+			storeXyz(info->m_J2angularAxis + at, angularB);
+			info->m_constraintError[at] = error;
+			rowCfmOverride(kLinearKind + i, at);
+		}
+	}
+
+	const int atU = row * skip, atV = atU + skip;
 	storeXyz(info->m_J1angularAxis + atU, -turnedU);
 	storeXyz(info->m_J2angularAxis + atU, turnedU);
 	storeXyz(info->m_J1angularAxis + atV, -turnedV);
 	storeXyz(info->m_J2angularAxis + atV, turnedV);
-	info->m_constraintError[atU] = -errorScale(kAngularKind) * (cosPsi * angular.errorU + sinPsi * angular.errorV);
-	info->m_constraintError[atV] = -errorScale(kAngularKind + 1) * (cosPsi * angular.errorV - sinPsi * angular.errorU);
+	info->m_constraintError[atU] = errorU;
+	info->m_constraintError[atV] = errorV;
 	rowCfmOverride(kAngularKind, atU);
 	rowCfmOverride(kAngularKind + 1, atV);
 	return row + 2;
@@ -868,7 +1005,8 @@ void btQuaternionHingeConstraint::fillRows(btConstraintInfo2* info, const btTran
 										   const btTransform& transB, const btVector3& angVelA,
 										   const btVector3& angVelB)
 {
-	if (m_numRows == 0) return;
+	// none when getInfo1 reserved none, or fewer than the bilateral rows (angular-only turned off in between)
+	if (m_numRows < (m_settings.angularOnly ? 2 : 5)) return;
 	m_lastTimeStep = btScalar(1) / info->fps;
 	// the pose getInfo1 cached, used in place; else computed here (no copy either way)
 	Pose computed;
@@ -878,9 +1016,14 @@ void btQuaternionHingeConstraint::fillRows(btConstraintInfo2* info, const btTran
 	int row = fillBilateralRows(info, transA, transB, pose);
 	const int skip = info->rowskip;
 
-	const bool drive = driveActive(m_settings);
-	const bool friction = m_settings.maxFrictionTorque > 0;
-	if (m_limitSign == 0 && !drive && !friction) return;
+	// Never more rows than the last getInfo1 reserved (m_numRows), whatever changed since: a setter called between
+	// the two, or getInfo2NonVirtual's own limit test. Dropped first: the limit row, then friction (the order below
+	// writes the drive first).
+	const int budget = m_numRows;
+	const bool drive = driveActive(m_settings) && row < budget;
+	const bool friction = m_settings.maxFrictionTorque > 0 && row + (drive ? 1 : 0) < budget;
+	const bool limitRowFits = row + (drive ? 1 : 0) + (friction ? 1 : 0) < budget;
+	if ((m_limitSign == 0 || !limitRowFits) && !drive && !friction) return;
 
 	// Axis part: rows along J_α = σ R_A t (HingeAngle.h: the exact gradient of the angle within 90° of assembly).
 	// (In SIMD lanes, MatrixLanes.h: btVector3's products, the same bits.)
@@ -917,7 +1060,7 @@ void btQuaternionHingeConstraint::fillRows(btConstraintInfo2* info, const btTran
 	if (friction) emit(frictionRow(m_settings, info->fps), axialCfm, m_settings.rowCfm[kAxialKind]);
 	// The limit row comes last: Gauss–Seidel leaves each sweep with the last row satisfied, so a stop is never crossed
 	// because a drive row was solved after it (a motor driven into a stop is held by the stop).
-	if (m_limitSign != 0)
+	if (m_limitSign != 0 && limitRowFits)
 	{
 		LimitState limit;  // as testLimit found it in getInfo1 (or getInfo2NonVirtual)
 		limit.sign = m_limitSign;

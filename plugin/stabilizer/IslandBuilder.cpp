@@ -27,8 +27,8 @@ void scanWorld(btDynamicsWorld& world, bool projectLimits, std::vector<Signature
 	for (int i = 0; i < n; ++i)
 	{
 		btTypedConstraint* c = world.getConstraint(i);
-		if (c->getConstraintType() != QUATERNION_HINGE_CONSTRAINT_TYPE || !c->isEnabled()) continue;
-		btQuaternionHingeConstraint* hinge = static_cast<btQuaternionHingeConstraint*>(c);
+		btQuaternionHingeConstraint* hinge = btQuaternionHingeConstraint::upcast(c);
+		if (!hinge || !c->isEnabled()) continue;
 		// a faulted joint (refused frame edit, bad body state) re-enabled with setEnabled(true) instead of
 		// clearFault(): the solver gets no rows from it, and the stabilizer must not project onto its refused frame
 		if (hinge->getFault() != BT_QHINGE_FAULT_NONE) continue;
@@ -41,7 +41,7 @@ void scanWorld(btDynamicsWorld& world, bool projectLimits, std::vector<Signature
 		if (isMovable(*e.body[1])) e.flags |= SignatureEntry::kMovableB;
 		if (!(e.flags & (SignatureEntry::kMovableA | SignatureEntry::kMovableB))) continue;
 		if (hinge->getAngularOnly()) e.flags |= SignatureEntry::kAngularOnly;
-		if (projectLimits && hinge->hasLimit()) e.flags |= SignatureEntry::kLimitSlot;
+		if (projectLimits && hinge->getSettings().hasLimit) e.flags |= SignatureEntry::kLimitSlot;
 		out.push_back(e);
 	}
 }

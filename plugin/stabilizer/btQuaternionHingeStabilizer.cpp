@@ -1,6 +1,7 @@
 // btQuaternionHingeStabilizer: the btActionInterface around the island projection (public header for the design;
 // StabilizerIsland.h for discovery and numbering; IslandProjection.cpp for Q13 and Q14).
 #include "quathinge/btQuaternionHingeStabilizer.h"
+#include "quathinge/btQuaternionHingeErrors.h"
 
 #include "StabilizerIsland.h"
 
@@ -10,7 +11,9 @@
 #include <chrono>
 #include <cmath>
 #include <sstream>
+#ifndef QUATHINGE_NO_EXCEPTIONS
 #include <stdexcept>
+#endif
 
 using namespace quathinge::stabilizer;
 
@@ -26,42 +29,52 @@ namespace
 {
 const char* const kClass = "btQuaternionHingeStabilizer";
 
-[[noreturn]] void fail(const char* fn, const char* field, const char* what, double value)
+// Refuses as the joint does (quathinge/btQuaternionHingeErrors.h): throws std::invalid_argument, or, built without
+// exceptions, hands the message to the error callback and returns false.
+bool fail(const char* fn, const char* field, const char* what, double value)
 {
 	std::ostringstream message;
 	message << kClass << "::" << fn << ": " << field << " (" << value << ") " << what;
+#ifdef QUATHINGE_NO_EXCEPTIONS
+	void* user = nullptr;
+	const btQuaternionHingeErrorCallback callback = btQuaternionHingeGetErrorCallback(&user);
+	callback(message.str().c_str(), user);
+	return false;
+#else
 	throw std::invalid_argument(message.str());
+#endif
 }
 
-void checkSettings(const char* fn, const btQuaternionHingeStabilizerSettings& s)
+bool checkSettings(const char* fn, const btQuaternionHingeStabilizerSettings& s)
 {
 	if (!(s.positionTolerance > 0) || !std::isfinite(s.positionTolerance))
-		fail(fn, "settings.positionTolerance", "must be finite and > 0", s.positionTolerance);
-	if (s.maxIterations < 1) fail(fn, "settings.maxIterations", "must be >= 1", s.maxIterations);
+		return fail(fn, "settings.positionTolerance", "must be finite and > 0", s.positionTolerance);
+	if (s.maxIterations < 1) return fail(fn, "settings.maxIterations", "must be >= 1", s.maxIterations);
 	if (!(s.minimumProgress > 0 && s.minimumProgress <= 1))
-		fail(fn, "settings.minimumProgress", "must be in (0, 1]", s.minimumProgress);
+		return fail(fn, "settings.minimumProgress", "must be in (0, 1]", s.minimumProgress);
 	// 1e-2: beyond it the regularization visibly slows Newton on well-posed islands (a 1% relative perturbation).
 	if (!(s.regularization >= 0 && s.regularization <= btScalar(1e-2)))
-		fail(fn, "settings.regularization", "must be in [0, 1e-2]", s.regularization);
+		return fail(fn, "settings.regularization", "must be in [0, 1e-2]", s.regularization);
 	if (!(s.positionRotationWeight >= 1 && s.positionRotationWeight <= btScalar(1e6)))
-		fail(fn, "settings.positionRotationWeight", "must be in [1, 1e6]", s.positionRotationWeight);
+		return fail(fn, "settings.positionRotationWeight", "must be in [1, 1e6]", s.positionRotationWeight);
 	if (s.solver != BT_QHSTAB_SOLVER_AUTO && s.solver != BT_QHSTAB_SOLVER_SPARSE_LDLT)
-		fail(fn, "settings.solver", "is not a btQuaternionHingeStabilizerSolver", double(s.solver));
+		return fail(fn, "settings.solver", "is not a btQuaternionHingeStabilizerSolver", double(s.solver));
+	return true;
 }
 }  // namespace
 
 btQuaternionHingeStabilizer::btQuaternionHingeStabilizer(const btQuaternionHingeStabilizerSettings& settings)
 	: m_impl(new Impl)
 {
-	checkSettings("btQuaternionHingeStabilizer", settings);
-	m_settings = settings;
+	// refused without exceptions: the default settings stay
+	if (checkSettings("btQuaternionHingeStabilizer", settings)) m_settings = settings;
 }
 
 btQuaternionHingeStabilizer::~btQuaternionHingeStabilizer() = default;
 
 void btQuaternionHingeStabilizer::setSettings(const btQuaternionHingeStabilizerSettings& settings)
 {
-	checkSettings("setSettings", settings);
+	if (!checkSettings("setSettings", settings)) return;
 	// projectLimits and solver change the islands' structure.
 	if (settings.projectLimits != m_settings.projectLimits || settings.solver != m_settings.solver)
 		invalidateStructure();
@@ -87,8 +100,9 @@ const btQuaternionHingeStabilizerStats& btQuaternionHingeStabilizer::stabilize(b
 																				btScalar timeStep)
 {
 	const auto start = std::chrono::steady_clock::now();
-	if (!world) fail("stabilize", "world", "must not be null", 0);
-	if (!(timeStep > 0) || !std::isfinite(timeStep)) fail("stabilize", "timeStep", "must be finite and > 0", timeStep);
+	if (!world && !fail("stabilize", "world", "must not be null", 0)) return m_stats;
+	if ((!(timeStep > 0) || !std::isfinite(timeStep)) && !fail("stabilize", "timeStep", "must be finite and > 0", timeStep))
+		return m_stats;
 	m_stats = btQuaternionHingeStabilizerStats();
 
 	Impl& impl = *m_impl;

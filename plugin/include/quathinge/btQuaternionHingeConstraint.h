@@ -10,9 +10,11 @@ limit row exists only while the limit is active, a drive row only while a drive 
 
 Differences from btHingeConstraint are listed in README.md ("Differences from btHingeConstraint").
 
-Errors: every constructor and setter checks its arguments and throws std::invalid_argument whose message names the
-function and the parameter ("btQuaternionHingeConstraint::setLimit: low (2) > high (1)"). Nothing invalid is stored,
-so nothing invalid reaches the solver. State that enters from outside (a body's NaN velocity or transform) is checked
+Errors: every constructor and setter checks its arguments and refuses only what has no meaning (NaN/Inf, a zero axis,
+the same body twice, a negative impulse); the message names the function and the parameter
+("btQuaternionHingeConstraint::setLimit: low (nan) must not be NaN"). It is thrown as std::invalid_argument, or, in a
+build without exceptions, handed to the error callback (btQuaternionHingeErrors.h). Nothing invalid is stored, so
+nothing invalid reaches the solver; no const method throws. State that enters from outside (a body's NaN velocity or transform) is checked
 in getInfo1: the joint then reports no rows, disables itself and records why (getFault()).
 */
 #ifndef BT_QUATERNION_HINGE_CONSTRAINT_H
@@ -23,6 +25,7 @@ in getInfo1: the joint then reports no rows, disables itself and records why (ge
 #include "LinearMath/btVector3.h"
 #include "BulletDynamics/ConstraintSolver/btTypedConstraint.h"
 #include "quathinge/quathinge_export.h"
+#include "btQuaternionHingeErrors.h"
 
 class btHingeConstraint;
 class btDynamicsWorld;
@@ -62,7 +65,10 @@ enum btQuaternionHingeFault
 	BT_QHINGE_FAULT_NONE = 0,
 	BT_QHINGE_FAULT_NONFINITE_BODY_STATE = 1,  ///< a body's transform or velocity was NaN/Inf when the solver asked for rows
 	BT_QHINGE_FAULT_NO_DYNAMIC_BODY = 2,       ///< both bodies have zero inverse mass and inertia: no row can act
-	BT_QHINGE_FAULT_FRAME_EDITED_INVALID = 3   ///< a frame edited through a non-const reference is not a rigid transform
+	BT_QHINGE_FAULT_FRAME_EDITED_INVALID = 3,  ///< a frame edited through a non-const reference is not a rigid transform
+	/// a constructor refused its arguments in a build without exceptions (btQuaternionHingeErrors.h): the joint stays
+	/// disabled with no rows; clearFault() does not clear it
+	BT_QHINGE_FAULT_INVALID_ARGUMENT = 4
 };
 
 /// The joint's whole configuration: a plain struct with defaults. Angles are in the getHingeAngle() convention
@@ -82,17 +88,19 @@ struct btQuaternionHingeSettings
 	/// give the same rows (documented in README, "Differences").
 	bool useFrameOffset = true;
 
-	/// Limit on the multi-turn angle (rad). Active when hasLimit. lowerLimit ≤ upperLimit; the range may be wider than
-	/// 2π and may straddle ±π. A limit with lowerLimit == upperLimit locks the hinge.
+	/// Limit on the multi-turn angle (rad). hasLimit: the limit acts (then lowerLimit ≤ upperLimit; the range may be
+	/// wider than 2π and may straddle ±π; lowerLimit == upperLimit locks the hinge). Without it the values are kept as
+	/// given (stock's never-limited hinge reports 1 and −1, and so do these defaults).
 	bool hasLimit = false;
-	btScalar lowerLimit = 0;
-	btScalar upperLimit = 0;
-	/// (0, 1]. The limit row is switched on speculatively once the angle is within (1 − softness)·(upper − lower)/2 of a
-	/// stop; until the stop is reached it only forbids crossing it within the step. 1: row only at or past the stop.
-	btScalar limitSoftness = btScalar(0.9);
-	/// [0, 1]. Multiplies the limit row's error correction and bounce, as btHingeConstraint's biasFactor.
-	btScalar limitBiasFactor = btScalar(0.3);
-	/// [0, 1]. Bounce on hitting a stop (btHingeConstraint's relaxationFactor); restitution = bias · relaxation.
+	btScalar lowerLimit = 1;
+	btScalar upperLimit = -1;
+	/// Any finite value, used within [0, 1]: the limit row is switched on speculatively once the angle is within
+	/// (1 − softness)·(upper − lower)/2 of a stop; until the stop is reached it only forbids crossing it within the
+	/// step. 1: row only at or past the stop. (Stock stores it and never uses it.)
+	btScalar limitSoftness = btScalar(0.9f);  // stock's float literals (0.9f, 0.3f), the same bits in a double build
+	/// Any finite value (as stock; 0.3 by default). Multiplies the limit row's error correction and bounce.
+	btScalar limitBiasFactor = btScalar(0.3f);
+	/// Any finite value (as stock): bounce on hitting a stop when > 0; restitution = bias · relaxation.
 	btScalar limitRelaxationFactor = btScalar(1.0);
 
 	btQuaternionHingeDriveMode driveMode = BT_QHINGE_DRIVE_OFF;
@@ -145,23 +153,35 @@ public:
 	/// From a complete configuration (what getSettings() returns). rbB may be btTypedConstraint::getFixedBody().
 	btQuaternionHingeConstraint(btRigidBody & rbA, btRigidBody & rbB, const btQuaternionHingeSettings& settings);
 
+	/// The quaternion hinge behind a constraint pointer, or null (as btRigidBody::upcast): the type number first
+	/// (QUATERNION_HINGE_CONSTRAINT_TYPE, cheap; every Bullet constraint is ruled out there), then dynamic_cast, so a
+	/// constraint of another plugin that uses the same number is never taken for one. Needs RTTI for the classes
+	/// that carry this type number (Bullet and QuatHinge are built with it). Use it instead of a static_cast on
+	/// getConstraintType().
+	static btQuaternionHingeConstraint* upcast(btTypedConstraint * constraint);
+	static const btQuaternionHingeConstraint* upcast(const btTypedConstraint* constraint);
+
 	// ---- btTypedConstraint --------------------------------------------------------------------------------------------
 	virtual void buildJacobian() {}
 	virtual void getInfo1(btConstraintInfo1 * info);
 	virtual void getInfo2(btConstraintInfo2 * info);
-	/// As getInfo1 (stock's variant reports a fixed 6; the rows here are always the ones needed).
+	/// For Bullet's non-virtual path: as stock's (which reserves a fixed 6), every row getInfo2NonVirtual may write —
+	/// the bilateral rows, the drive and friction rows when on, and a limit row whenever a limit acts (it is tested
+	/// again there, at the transforms given). Neither getInfo2 form ever writes more rows than the last getInfo1 or
+	/// getInfo1NonVirtual reserved.
 	void getInfo1NonVirtual(btConstraintInfo1 * info);
 	/// As getInfo2, for given transforms and angular velocities (used by btHingeConstraint-style callers).
 	void getInfo2NonVirtual(btConstraintInfo2 * info, const btTransform& transA, const btTransform& transB,
 							const btVector3& angVelA, const btVector3& angVelB);
 	void updateRHS(btScalar /*timeStep*/) {}
 
-	/// ERP / STOP_ERP / CFM / STOP_CFM. axis −1: every row kind (ERP, CFM) or the limit row (STOP_*). axis 0..2: the
-	/// linear rows, 3..4: the angular rows, 5: the axial drive row (STOP_* accept only −1 and 5). ERP in [0, 1],
-	/// CFM in [0, 1) (Bullet's solver diverges on a row with CFM ≥ 1). Anything else throws.
+	/// ERP / STOP_ERP / CFM / STOP_CFM. axis −1 or 5 means what it means for stock: ERP for every row, CFM for the
+	/// axial drive (motor) and friction rows, STOP_* for the limit row. Beyond stock, axis 0..2 sets the linear rows,
+	/// 3..4 the angular rows (stock ignores these axes); STOP_* accept only −1 and 5. ERP in [0, 2), CFM in [0, 1)
+	/// (outside them the solve diverges or asks for error growth); anything else is refused.
 	virtual void setParam(int num, btScalar value, int axis = -1);
-	/// The value set for (num, axis); for axis −1 the value set for all rows. Throws if num or axis is invalid, or if
-	/// no value was set for that row (the global value is then in effect).
+	/// The value set for (num, axis), or 0 when none was set (as stock, whose unset values are 0; the solver's global
+	/// value is then in effect). Never fails: an unknown num or axis returns 0.
 	virtual btScalar getParam(int num, int axis = -1) const;
 	virtual int getFlags() const { return m_settings.flags; }
 
@@ -184,7 +204,8 @@ public:
 	const btTransform& getAFrame() const { return m_settings.frameInA; }
 	const btTransform& getBFrame() const { return m_settings.frameInB; }
 	void setFrames(const btTransform& frameA, const btTransform& frameB);
-	/// As btHingeConstraint::setAxis: new hinge axis in A (non-zero), B's frame re-derived from the current pose.
+	/// As btHingeConstraint::setAxis: new hinge axis in A (finite, non-zero, any length: normalized), B's frame
+	/// re-derived from the current pose.
 	void setAxis(btVector3 & axisInA);
 
 	void setAngularOnly(bool angularOnly) { m_settings.angularOnly = angularOnly; }
@@ -202,21 +223,25 @@ public:
 	/// As stock: sets the motor's target velocity so that the angle reaches targetAngle (clamped to the limit) in dt.
 	/// Must be called every tick; setServoTarget holds an angle without that.
 	void setMotorTarget(btScalar targetAngle, btScalar dt);
-	/// qAinB: rotation of body A relative to body B, as stock.
+	/// qAinB: rotation of body A relative to body B, as stock: its twist about the hinge axis is the target angle
+	/// (also with useReferenceFrameA, where stock takes it unchanged although getHingeAngle() changes sign).
 	void setMotorTarget(const btQuaternion& qAinB, btScalar dt);
 	bool getEnableAngularMotor() const { return m_settings.driveMode == BT_QHINGE_DRIVE_VELOCITY; }
 	btScalar getMotorTargetVelocity() const { return m_settings.motorTargetVelocity; }
 	btScalar getMaxMotorImpulse() const { return m_settings.maxMotorImpulse; }
 
-	/// Limit on the multi-turn angle, low ≤ high (radians; may straddle ±π, may be wider than 2π). softness,
-	/// biasFactor, relaxationFactor as documented in btQuaternionHingeSettings. Throws on low > high (use
-	/// removeLimit() to free the joint) or on a value outside its range. If the current multi-turn angle is outside
-	/// [low, high], it is moved by whole turns to the branch nearest the range (so a stock-style range across ±π means
-	/// what it means for btHingeConstraint).
-	void setLimit(btScalar low, btScalar high, btScalar softness = btScalar(0.9), btScalar biasFactor = btScalar(0.3),
+	/// Limit on the multi-turn angle (radians; may straddle ±π, may be wider than 2π). As stock: low > high frees the
+	/// joint (the values are kept and reported), low == high locks it. An end beyond ±1e6 rad or at ±BT_LARGE_FLOAT
+	/// means no stop on that side. softness, biasFactor, relaxationFactor: any finite values, see
+	/// btQuaternionHingeSettings. If the current multi-turn angle is outside [low, high], it is moved by whole turns
+	/// to the branch nearest the range (so a stock-style range across ±π means what it means for btHingeConstraint).
+	void setLimit(btScalar low, btScalar high, btScalar softness = btScalar(0.9f), btScalar biasFactor = btScalar(0.3f),
 				  btScalar relaxationFactor = btScalar(1.0));
+	/// Frees the joint (as setLimit(1, -1) would, but keeping the ends).
 	void removeLimit();
-	bool hasLimit() const { return m_settings.hasLimit; }
+	/// Stock's answer: a limit with a range (high > low). A lock (low == high) acts but reports false, as stock's;
+	/// getSettings().hasLimit says whether any limit acts.
+	bool hasLimit() const { return m_settings.hasLimit && m_settings.upperLimit > m_settings.lowerLimit; }
 	btScalar getLowerLimit() const { return m_settings.lowerLimit; }
 	btScalar getUpperLimit() const { return m_settings.upperLimit; }
 	btScalar getLimitSoftness() const { return m_settings.limitSoftness; }
@@ -238,7 +263,7 @@ public:
 	/// at every solver step while a limit, servo or spring needs it, and from the first call of this function on.
 	btScalar getMultiTurnAngle();
 	/// Declares the current pose to be at multi-turn angle `angle` (must equal getHingeAngle() modulo 2π within 1e-3
-	/// rad; throws otherwise).
+	/// rad; refused otherwise).
 	void setMultiTurnAngle(btScalar angle);
 
 	/// Servo: holds targetAngle (multi-turn, rad) moving at most maxSpeed (rad/s, > 0) with at most maxTorque (N·m,
@@ -288,6 +313,7 @@ private:
 	};
 	void poseAt(const btTransform& transA, const btTransform& transB, Pose& pose) const;
 	void initFromSettings();
+	void refuseConstruction();
 	void validateFramesIfEdited();
 	void rebranchForLimit();
 	void updateMultiTurnAngle(btScalar rawUserAngle);

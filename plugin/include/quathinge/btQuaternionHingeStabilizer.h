@@ -11,7 +11,7 @@ projects the bodies held by btQuaternionHingeConstraints back onto their joints:
                     floor), the iteration cap, or no further progress;
   (Q14) velocities: v ← v − M⁻¹ Jᵀ K⁻¹ J v with J at the projected positions (Cline & Pai, ICRA 2003).
 
-What it projects. Only btQuaternionHingeConstraints (getConstraintType() == QUATERNION_HINGE_CONSTRAINT_TYPE) that
+What it projects. Only btQuaternionHingeConstraints (btQuaternionHingeConstraint::upcast) that
 are enabled (a disabled or broken joint is skipped) and have at least one movable body. A movable body is dynamic and
 active: static and kinematic bodies (infinite mass) and sleeping bodies are never moved, and do not connect islands.
 The joints are grouped into islands (connected through shared movable bodies); each island is solved on its own.
@@ -162,7 +162,8 @@ QUATHINGE_STABILIZER_API btQuaternionHingeStabilizer : public btActionInterface
 public:
 	BT_DECLARE_ALIGNED_ALLOCATOR();
 
-	/// Throws std::invalid_argument (naming the field) when a setting is out of range.
+	/// Refuses a setting out of range, naming the field (btQuaternionHingeErrors.h: throws std::invalid_argument, or,
+	/// without exceptions, reports and keeps the default settings).
 	explicit btQuaternionHingeStabilizer(const btQuaternionHingeStabilizerSettings& settings =
 											 btQuaternionHingeStabilizerSettings());
 	virtual ~btQuaternionHingeStabilizer();
@@ -177,11 +178,12 @@ public:
 
 	/// Projects `world` now, as updateAction does; e.g. once after placing bodies by hand, before the first step.
 	/// timeStep (s, > 0): the step the velocities will next be integrated over; the velocity projection aims at
-	/// |J v| ≤ (a row's position threshold) / timeStep per row. Throws std::invalid_argument on a null world or a
-	/// bad timeStep.
+	/// |J v| ≤ (a row's position threshold) / timeStep per row. Refuses a null world or a bad timeStep (thrown, or
+	/// reported without exceptions, and nothing projected).
 	const btQuaternionHingeStabilizerStats& stabilize(btDynamicsWorld * world, btScalar timeStep = btScalar(1) / 60);
 
-	/// Throws std::invalid_argument (naming the field) when a setting is out of range; nothing is changed then.
+	/// Refuses a setting out of range, naming the field (thrown, or reported without exceptions); nothing is changed
+	/// then.
 	void setSettings(const btQuaternionHingeStabilizerSettings& settings);
 	const btQuaternionHingeStabilizerSettings& getSettings() const { return m_settings; }
 
