@@ -240,3 +240,32 @@ TEST(FuzzFindings, SetMotorTargetRefusesADtThatMakesTheVelocityInfinite)
 	j.setMotorTarget(btScalar(1), btScalar(0.5));
 	EXPECT_NEAR(j.getMotorTargetVelocity(), btScalar(2), btScalar(1e-4));  // rad/s: (1 − 0) / 0.5 from rest at θ = 0
 }
+
+TEST(FuzzFindings, LimitFactorsBeyondTheirRangeAreRefused)
+{
+	// setlimit-huge-bias: setLimit(-20, -20, 0.15, -2.6e38) (stock stores any factor) scaled the limit row's error
+	// past float range, and one step later a sane body spun at an infinite rate. Bias and relaxation are now refused
+	// beyond ±1e3 (named), the limit before the refusal kept; at ±1e3 a joint driven into a violated stop stays finite.
+	MiniWorld w;
+	btRigidBody& a = w.box(btVector3(0, 0, 0));
+	btQuaternionHingeConstraint j(a, btVector3(0, btScalar(0.5), 0), btVector3(0, 0, 1));
+	j.setLimit(btScalar(0.5), btScalar(0.5));
+	EXPECT_REFUSED(j.setLimit(-20, -20, btScalar(0.15), btScalar(-2.6e38)), "biasFactor");
+	EXPECT_REFUSED(j.setLimit(-1, 1, btScalar(0.9), btScalar(0.3), btScalar(1001)), "relaxationFactor");
+	EXPECT_EQ(j.getLowerLimit(), btScalar(0.5));
+	EXPECT_EQ(j.getLimitBiasFactor(), btScalar(0.3));
+	w.world.addConstraint(&j, true);
+	for (const btScalar factor : {btScalar(1e3), btScalar(-1e3)})
+	{
+		j.setLimit(-20, -20, btScalar(0.15), factor, factor);
+		EXPECT_EQ(j.getLimitBiasFactor(), factor);
+		a.setAngularVelocity(btVector3(0, 0, 50));
+		for (int i = 0; i < 30; ++i) w.step();
+		for (int k = 0; k < 3; ++k)
+		{
+			EXPECT_TRUE(std::isfinite(a.getAngularVelocity()[k])) << "bias and relaxation " << factor;
+			EXPECT_TRUE(std::isfinite(a.getCenterOfMassPosition()[k])) << "bias and relaxation " << factor;
+		}
+	}
+	w.world.removeConstraint(&j);
+}

@@ -131,6 +131,11 @@ bool angle(const char* fn, const char* param, btScalar value)
 	return inRange(fn, param, value, -kMaxAngle, true, kMaxAngle, true);
 }
 
+bool limitFactor(const char* fn, const char* param, btScalar value)
+{
+	return inRange(fn, param, value, -kMaxLimitFactor, true, kMaxLimitFactor, true);
+}
+
 bool nonNegative(const char* fn, const char* param, btScalar value)
 {
 	return value >= 0 || fail(fn, param, "must be >= 0", value);

@@ -48,6 +48,13 @@ const btScalar kMaxPivotDistance = btScalar(1e6);
 const btScalar kMaxAngle = btScalar(1e6);
 /// An angle (rad): finite and |angle| ≤ kMaxAngle.
 bool angle(const char* fn, const char* param, btScalar value);
+/// The largest magnitude of a limit's bias or relaxation factor: 1e3. Stock stores any number and documents both as
+/// fractions (bias 0.3, relaxation 1; Godot's editor offers relaxation up to 16); a factor scales the limit row's
+/// velocity error (bias × stop ERP × fps × distance, relaxation × rate), and past this it throws a body out of float
+/// range (the fuzzer found a bias of -2.6e38 turning a body's angular velocity infinite in one step).
+const btScalar kMaxLimitFactor = btScalar(1e3);
+/// A limit factor: finite and |value| ≤ kMaxLimitFactor.
+bool limitFactor(const char* fn, const char* param, btScalar value);
 /// The highest spring frequency: 1e6 Hz (ω² must stay far inside float range).
 const btScalar kMaxSpringFrequency = btScalar(1e6);
 }  // namespace check

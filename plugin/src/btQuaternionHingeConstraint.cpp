@@ -526,14 +526,15 @@ void btQuaternionHingeConstraint::setLimit(btScalar low, btScalar high, btScalar
 {
 	// Stock's meaning for everything stock accepts (btAngularLimit::set): low > high is a limit that never acts (a
 	// free joint; stock's URDF importer and Godot pass such pairs for "no limit"), low == high locks the hinge, and
-	// softness, bias and relaxation are any finite numbers. Refused: NaN or infinite factors, a NaN end, and the ends
+	// softness is any finite number, bias and relaxation any number of magnitude up to 1e3 (check::kMaxLimitFactor:
+	// stock documents both as fractions). Refused: NaN or infinite softness, a factor beyond that, a NaN end, and the ends
 	// that have no angle (low at +∞, high at −∞) or no float precision left (a finite low above 1e6 rad, or high below
 	// −1e6 rad, with low ≤ high).
 	const char* fn = "btQuaternionHingeConstraint::setLimit";
 	if (std::isnan(low) && !check::fail(fn, "low", "must not be NaN", low)) return;
 	if (std::isnan(high) && !check::fail(fn, "high", "must not be NaN", high)) return;
-	if (!check::finite(fn, "softness", softness) || !check::finite(fn, "biasFactor", biasFactor) ||
-		!check::finite(fn, "relaxationFactor", relaxationFactor))
+	if (!check::finite(fn, "softness", softness) || !check::limitFactor(fn, "biasFactor", biasFactor) ||
+		!check::limitFactor(fn, "relaxationFactor", relaxationFactor))
 		return;
 	const bool acts = low <= high;
 	if (acts)

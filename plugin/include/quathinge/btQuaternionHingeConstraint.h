@@ -98,9 +98,10 @@ struct btQuaternionHingeSettings
 	/// (1 − softness)·(upper − lower)/2 of a stop; until the stop is reached it only forbids crossing it within the
 	/// step. 1: row only at or past the stop. (Stock stores it and never uses it.)
 	btScalar limitSoftness = btScalar(0.9f);  // stock's float literals (0.9f, 0.3f), the same bits in a double build
-	/// Any finite value (as stock; 0.3 by default). Multiplies the limit row's error correction and bounce.
+	/// Any value within ±1e3 (0.3 by default; stock documents it as a fraction and stores anything). Multiplies the
+	/// limit row's error correction and bounce.
 	btScalar limitBiasFactor = btScalar(0.3f);
-	/// Any finite value (as stock): bounce on hitting a stop when > 0; restitution = bias · relaxation.
+	/// Any value within ±1e3: bounce on hitting a stop when > 0; restitution = bias · relaxation.
 	btScalar limitRelaxationFactor = btScalar(1.0);
 
 	btQuaternionHingeDriveMode driveMode = BT_QHINGE_DRIVE_OFF;
@@ -232,8 +233,8 @@ public:
 
 	/// Limit on the multi-turn angle (radians; may straddle ±π, may be wider than 2π). As stock: low > high frees the
 	/// joint (the values are kept and reported), low == high locks it. An end beyond ±1e6 rad or at ±BT_LARGE_FLOAT
-	/// means no stop on that side. softness, biasFactor, relaxationFactor: any finite values, see
-	/// btQuaternionHingeSettings. If the current multi-turn angle is outside [low, high], it is moved by whole turns
+	/// means no stop on that side. softness: any finite value; biasFactor, relaxationFactor: any value within ±1e3
+	/// (refused beyond: they scale the limit row's error), see btQuaternionHingeSettings. If the current multi-turn angle is outside [low, high], it is moved by whole turns
 	/// to the branch nearest the range (so a stock-style range across ±π means what it means for btHingeConstraint).
 	void setLimit(btScalar low, btScalar high, btScalar softness = btScalar(0.9f), btScalar biasFactor = btScalar(0.3f),
 				  btScalar relaxationFactor = btScalar(1.0));
