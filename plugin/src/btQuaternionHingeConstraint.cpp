@@ -588,6 +588,18 @@ btScalar btQuaternionHingeConstraint::getHingeAngle(const btTransform& transA, c
 	return userSign(m_settings.useReferenceFrameA) * hingeAngle(pose.q);
 }
 
+btScalar btQuaternionHingeConstraint::computeAngleRow(const btTransform& transA, const btTransform& transB,
+													  btScalar previousAngle, btVector3& gradient) const
+{
+	// (Q11) α = σθ continued from the previous angle; α̇ = σ Ω·t with Ω = R_Aᵀ(ω_B − ω_A), so the world axis is σ R_A t
+	Pose pose;
+	poseAt(transA, transB, pose);
+	const btScalar sigma = userSign(m_settings.useReferenceFrameA);
+	storeLanes(gradient, timesTransposed(pose.axesA, hingeAngleGradient(pose.q)));
+	gradient *= sigma;
+	return continueAngle(previousAngle, sigma * hingeAngle(pose.q));
+}
+
 bool btQuaternionHingeConstraint::needsAngle() const
 {
 	return m_settings.hasLimit || m_trackAlways || m_settings.driveMode == BT_QHINGE_DRIVE_SERVO ||

@@ -77,31 +77,6 @@ const btScalar kNearFloor = 4;
 // Velocity solves per step: a chord solve or two, then an exact one if they stall.
 const int kMaxVelocitySolves = 3;
 
-btScalar wrapAngle(btScalar angle)
-{
-	angle = btFmod(angle, SIMD_2_PI);
-	if (angle <= -SIMD_PI) angle += SIMD_2_PI;
-	else if (angle > SIMD_PI) angle -= SIMD_2_PI;
-	return angle;
-}
-
-// The hinge angle θ (Q11, q0 ≥ 0) and its gradient t in joint frame A (HingeAngle.h: θ̇ = Ω·t).
-void angleAndGradient(const btQuaternion& q, btScalar& theta, btVector3& t)
-{
-	btScalar w = q.w(), z = q.z();
-	if (w < 0 || (w == 0 && z < 0))
-	{
-		w = -w;
-		z = -z;
-	}
-	theta = 2 * btAtan2(z, w);
-	const btScalar c2 = q.w() * q.w() + q.z() * q.z();
-	if (c2 <= SIMD_EPSILON * SIMD_EPSILON)
-		t.setValue(0, 0, 1);
-	else
-		t.setValue((q.w() * q.y() + q.z() * q.x()) / c2, (q.z() * q.y() - q.w() * q.x()) / c2, 1);
-}
-
 btScalar maxAbs(const btVector3& v) { return btMax(btFabs(v.x()), btMax(btFabs(v.y()), btFabs(v.z()))); }
 
 // M⁻¹ of a body in double: m⁻¹ times the linear factor, and S R diag(I_local⁻¹) Rᵀ S (S the angular factor, R the
@@ -210,17 +185,10 @@ PositionResidual evaluatePositions(BlockIsland<R>& island, btScalar tolerance)
 		if (!js.limitSlot) continue;
 		btAssert(R == 6);  // an island with a limit slot works in 6-row blocks
 
-		// The limit row: multi-turn angle α = σθ continued from the step's reference, gradient ±σ R_A t.
-		const btMatrix3x3 frameA = tA.getBasis() * js.joint->getAFrame().getBasis();
-		const btMatrix3x3 relative = frameA.transposeTimes(tB.getBasis() * js.joint->getBFrame().getBasis());
-		btQuaternion q;
-		relative.getRotation(q);
-		btScalar theta;
-		btVector3 t;
-		angleAndGradient(q, theta, t);
-		const btScalar sigma = js.joint->getUseReferenceFrameA() ? btScalar(1) : btScalar(-1);
-		js.angle = js.angleReference + wrapAngle(sigma * theta - js.angleReference);
-		const btVector3 g = sigma * (frameA * t);
+		// The limit row: the multi-turn angle α continued from the step's reference, and its gradient (the joint's own
+		// Q11, btQuaternionHingeConstraint::computeAngleRow).
+		btVector3 g;
+		js.angle = js.joint->computeAngleRow(tA, tB, js.angleReference, g);
 		for (int k = 0; k < 3; ++k)
 		{
 			js.limitGradient[k] = 0;

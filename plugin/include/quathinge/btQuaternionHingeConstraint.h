@@ -295,6 +295,11 @@ public:
 	/// swing log, Q12) and their Jacobian J = ∂C/∂(v_A, ω_A, v_B, ω_B), row r at jacobian[12 r .. 12 r + 11] in that
 	/// order (world frame). Returns the row count (5, or 2 when angular-only); C and jacobian hold room for 5 rows.
 	int computePositionRows(const btTransform& transA, const btTransform& transB, btScalar* C, btScalar* jacobian) const;
+	/// The limit's position-level row at the given body transforms, for post-stabilizers (MATH.md Q11): returns the
+	/// multi-turn angle α (rad, getHingeAngle's sign) continued from previousAngle (the angle at transforms less than
+	/// half a turn away), and sets gradient to its exact derivative as a world-frame axis: α̇ = gradient·(ω_B − ω_A).
+	btScalar computeAngleRow(const btTransform& transA, const btTransform& transB, btScalar previousAngle,
+							 btVector3& gradient) const;
 
 	/// Draws the joint: pivot frames, the hinge axis and, with a limit, its arc (within one turn).
 	void debugDraw(btIDebugDraw * drawer, btScalar size = btScalar(0.3)) const;
