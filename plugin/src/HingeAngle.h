@@ -20,6 +20,9 @@
 
 namespace quathinge
 {
+/// The user angle α = σθ: σ = +1 with useReferenceFrameA, −1 without (btHingeConstraint::getHingeAngle's sign).
+inline btScalar userSign(bool useReferenceFrameA) { return useReferenceFrameA ? btScalar(1) : btScalar(-1); }
+
 /// Wraps an angle into (−π, π].
 btScalar wrapAngle(btScalar angle);
 

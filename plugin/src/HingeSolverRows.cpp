@@ -1,0 +1,360 @@
+// btQuaternionHingeConstraint's solver interface: getInfo1 decides which rows exist (and checks the bodies' state and
+// edited frames first), getInfo2 fills them in this order:
+//   [0..2] point-to-point (unless angular-only)   [next 2] quaternion rows   [drive] [friction] [limit]
+// and computePositionRows gives the same equations at given transforms for post-stabilizers.
+#include "quathinge/btQuaternionHingeConstraint.h"
+
+#include "AxisRows.h"
+#include "HingeAngle.h"
+#include "InputChecks.h"
+#include "MatrixLanes.h"
+#include "QuaternionHingeRows.h"
+#include "RowKinds.h"
+#include "SolverRowBasis.h"
+
+#include "BulletDynamics/Dynamics/btRigidBody.h"
+
+#include <cmath>
+
+using namespace quathinge;
+
+namespace
+{
+// Largest body coordinate or speed the joint accepts (m, m/s, rad/s): beyond it differences and products of the rows
+// leave float range (the fuzzer found bodies at ±2e38 m whose pivot difference was infinite).
+const btScalar kMaxBodyState = btScalar(1e15);
+
+bool finiteBodyState(const btRigidBody& body)
+{
+	// NaN survives a sum of absolute values, and ±∞ or anything near float's end makes it exceed the bound, so one
+	// comparison covers the transform and both velocities (summed three lanes at a time, MatrixLanes.h).
+	const btTransform& t = body.getCenterOfMassTransform();
+	const Lanes sum = absXyz(t.getOrigin()) + absXyz(t.getBasis()[0]) + absXyz(t.getBasis()[1]) +
+					  absXyz(t.getBasis()[2]) + absXyz(body.getLinearVelocity()) + absXyz(body.getAngularVelocity());
+	// an inverse mass or inertia that is not finite (a body of 1e-38 kg) makes every row's effective mass 0·∞
+	const btScalar inverse = body.getInvMass() + body.getInvInertiaDiagLocal().x() + body.getInvInertiaDiagLocal().y() +
+							 body.getInvInertiaDiagLocal().z();
+	return sum[0] + sum[1] + sum[2] < kMaxBodyState && inverse < kMaxBodyState;  // false for NaN as well
+}
+
+bool isStaticLike(const btRigidBody& body)
+{
+	return body.getInvMass() == 0 && body.getInvInertiaDiagLocal().isZero();
+}
+}  // namespace
+
+void btQuaternionHingeConstraint::clearFault()
+{
+	// A refused frame edit is not cleared until the frames are rigid again (else the refused frame would be used); a
+	// refused construction never is (the joint has no configuration to return to).
+	if (m_fault == BT_QHINGE_FAULT_INVALID_ARGUMENT) return;
+	m_fault = BT_QHINGE_FAULT_NONE;
+	validateFramesIfEdited();
+	setEnabled(m_fault == BT_QHINGE_FAULT_NONE);
+}
+
+void btQuaternionHingeConstraint::getInfo1(btConstraintInfo1* info)
+{
+	computeRowCount(info, m_rbA.getCenterOfMassTransform(), m_rbB.getCenterOfMassTransform());
+}
+
+void btQuaternionHingeConstraint::getInfo1NonVirtual(btConstraintInfo1* info)
+{
+	// Bullet's non-virtual path: getInfo2NonVirtual tests the limit again at transforms this call never sees, so the
+	// reservation must hold every row it may write (stock reserves its 6 here for the same reason): the bilateral
+	// rows, the drive and friction rows when on, and a limit row whenever a limit acts, needed or not. A reserved row
+	// left unwritten stays the solver's zero row (no effect). getInfo1's checks (faults, body state) still decide
+	// whether there are any rows at all.
+	computeRowCount(info, m_rbA.getCenterOfMassTransform(), m_rbB.getCenterOfMassTransform());
+	if (info->m_numConstraintRows == 0) return;
+	int rows = m_settings.angularOnly ? 2 : 5;
+	if (m_settings.hasLimit) ++rows;
+	if (driveActive(m_settings)) ++rows;
+	if (m_settings.maxFrictionTorque > 0) ++rows;
+	info->m_numConstraintRows = rows;
+	m_numRows = rows;
+}
+
+void btQuaternionHingeConstraint::computeRowCount(btConstraintInfo1* info, const btTransform& transA,
+												  const btTransform& transB)
+{
+	info->m_numConstraintRows = 0;
+	info->nub = 0;
+	m_numRows = 0;
+	if (m_framesMayHaveChanged) validateFramesIfEdited();
+	// A fault stands until clearFault(), even for a joint re-enabled by hand with setEnabled(true): no rows, disabled
+	// again (the stabilizer skips a faulted joint as well; the two must agree).
+	if (m_fault == BT_QHINGE_FAULT_FRAME_EDITED_INVALID || m_fault == BT_QHINGE_FAULT_NONFINITE_BODY_STATE ||
+		m_fault == BT_QHINGE_FAULT_INVALID_ARGUMENT)
+	{
+		setEnabled(false);
+		return;
+	}
+	// State from outside must not turn the rows into NaN: refuse, disable, say why.
+	if (!finiteBodyState(m_rbA) || !finiteBodyState(m_rbB))
+	{
+		m_fault = BT_QHINGE_FAULT_NONFINITE_BODY_STATE;
+		setEnabled(false);
+		return;
+	}
+	if (isStaticLike(m_rbA) && isStaticLike(m_rbB))
+	{
+		m_fault = BT_QHINGE_FAULT_NO_DYNAMIC_BODY;  // transient: no row could act; rows return with a dynamic body
+		return;
+	}
+	if (m_fault == BT_QHINGE_FAULT_NO_DYNAMIC_BODY) m_fault = BT_QHINGE_FAULT_NONE;
+
+	int rows = m_settings.angularOnly ? 2 : 5;
+	if (needsAngle())
+	{
+		if (m_settings.hasLimit) testLimit(transA, transB);  // caches the pose, advances the multi-turn angle
+		else
+		{
+			poseAt(transA, transB, m_pose);
+			m_poseCached = true;
+			updateMultiTurnAngle(userSign(m_settings.useReferenceFrameA) * hingeAngle(m_pose.q));
+		}
+	}
+	else
+	{
+		m_multiTurnValid = false;  // not tracked this step: whole turns may be missed from here on
+		m_limitSign = 0;
+	}
+	if (m_limitSign != 0) ++rows;
+	if (driveActive(m_settings)) ++rows;
+	if (m_settings.maxFrictionTorque > 0) ++rows;
+	info->m_numConstraintRows = rows;
+	info->nub = m_settings.angularOnly ? 2 : 5;  // the bilateral, unbounded rows
+	m_numRows = rows;
+}
+
+void btQuaternionHingeConstraint::getInfo2(btConstraintInfo2* info)
+{
+	fillRows(info, m_rbA.getCenterOfMassTransform(), m_rbB.getCenterOfMassTransform(), m_rbA.getAngularVelocity(),
+			 m_rbB.getAngularVelocity());
+}
+
+void btQuaternionHingeConstraint::getInfo2NonVirtual(btConstraintInfo2* info, const btTransform& transA,
+													 const btTransform& transB, const btVector3& angVelA,
+													 const btVector3& angVelB)
+{
+	m_poseCached = false;       // a cached pose belongs to the body transforms, not to these
+	testLimit(transA, transB);  // as stock: getInfo1 did not run for these transforms
+	fillRows(info, transA, transB, angVelA, angVelB);
+}
+
+int btQuaternionHingeConstraint::fillBilateralRows(btConstraintInfo2* info, const btTransform& transA,
+												  const btTransform& transB, const Pose& pose) const
+{
+	// pose: joint frame A's basis and both pivots in world; q = a* ⊗ b (Q2).
+	const int skip = info->rowskip;
+	const bool angularOnly = m_settings.angularOnly;
+	const btScalar erpFps = info->erp * info->fps;
+	// Per-row ERP/CFM only when some override is set (the common case writes one ERP and leaves CFM alone).
+	const bool overrides = m_settings.flags != 0;
+	auto errorScale = [&](int kind) { return overrides ? rowErp(kind, info->erp) * info->fps : erpFps; };
+	auto rowCfmOverride = [&](int kind, int at) {
+		if (overrides && (m_settings.flags & (BT_QHINGE_FLAGS_CFM_ROW0 << kind))) info->cfm[at] = m_settings.rowCfm[kind];
+	};
+
+	// Point part: C = p_B − p_A (MATH.md, "Bullet's conventions"). Along a direction e held for the step,
+	// e·Ċ = e·(v_B + ω_B × r_B − v_A − ω_A × r_A), so the row is J1 = (−e, e × r_A), J2 = (e, r_B × e); error −erp·fps·e·C
+	// (Q10), with e ∈ {p, t, a} (SolverRowBasis.h: a rotation of the row space that Gauss–Seidel converges on as fast
+	// as on stock's rows; computePositionRows keeps world x, y, z). The solver hands rows in zeroed; every entry of a
+	// row is written all the same (straight-line stores are cheaper than skipping zeros).
+	// (Vectors in SIMD lanes, MatrixLanes.h: btVector3's operations lane by lane, the same bits.)
+	const Lanes pivotA = lanesOf(pose.pivotA), pivotB = lanesOf(pose.pivotB);
+	const Lanes rA = pivotA - lanesOf(transA.getOrigin());
+	const Lanes rB = pivotB - lanesOf(transB.getOrigin());
+	const PointRowBasis basis = pointRowBasis(pose.axesA, rA, rB, m_rbA.getInvMass(), m_rbB.getInvMass());
+
+	// Quaternion part (Q7, Q9, Q10; the log form beyond 90°, Q12): body A −g, body B +g, error −erp·fps·C; for the
+	// solver turned within the part's plane so the first row lies along p (SolverRowBasis.h). Written after the point
+	// rows; computed first, as the point rows take a multiple of them (below).
+	AngularRows angular;
+	computeAngularRowsFromAxes(pose.axesA, pose.q, angular);
+	const Lanes rowU = lanesOf(angular.rowU), rowV = lanesOf(angular.rowV);
+	btScalar cosPsi, sinPsi;
+	quaternionRowTurn(rowU, rowV, basis.p, cosPsi, sinPsi);
+	const Lanes turnedU = rowU * cosPsi + rowV * sinPsi, turnedV = rowV * cosPsi - rowU * sinPsi;
+	const btScalar errorU = -errorScale(kAngularKind) * (cosPsi * angular.errorU + sinPsi * angular.errorV);
+	const btScalar errorV = -errorScale(kAngularKind + 1) * (cosPsi * angular.errorV - sinPsi * angular.errorU);
+
+	int row = 0;
+	if (!angularOnly)
+	{
+		// The axial parts of the lever arms (along the hinge axis a) couple a point row to the swing through the
+		// bodies' inertia across the axis: a pivot 1 m along the axis from a body's centre held 0.04 m apart after 10
+		// Gauss–Seidel sweeps where stock, which drops those parts, holds 2e-10 m. Shifting both arms by the same
+		// δ a changes a point row by −δ (a × e)·(ω_B − ω_A), which vanishes wherever the quaternion rows hold; written
+		// here as an exact row operation with them (the point row minus δ (c_u u' + c_v v') on both the Jacobian and
+		// the error, c the combination of the quaternion rows nearest a × e), so the rows keep their solution set and
+		// their exactness (SolverRowBasis.h: a change of row basis held for the step). δ as stock's: the arms' axial
+		// offsets blended by inverse mass (a static side keeps its own; the dynamic side's axial arm becomes 0).
+		const Lanes c = pivotB - pivotA;
+		const btScalar invMassSum = m_rbA.getInvMass() + m_rbB.getInvMass();
+		const btScalar weightA = invMassSum > btScalar(0) ? m_rbB.getInvMass() / invMassSum : btScalar(0.5);
+		const btScalar axialA = dotXyz(basis.a, rA), axialB = dotXyz(basis.a, rB);
+		const btScalar delta = axialA - (axialA - axialB) * weightA;
+		const btScalar uu = dotXyz(turnedU, turnedU), uv = dotXyz(turnedU, turnedV), vv = dotXyz(turnedV, turnedV);
+		const btScalar det = uu * vv - uv * uv;
+		// (not for an offset at round-off level, 8 ε of the arms: a chain whose pivots lie across its axes keeps its bits)
+		const btScalar roundOff = btScalar(8) * SIMD_EPSILON * (btSqrt(dotXyz(rA, rA)) + btSqrt(dotXyz(rB, rB)));
+		const bool shift = btFabs(delta) > roundOff && det > SIMD_EPSILON * uu * vv;
+		const Lanes directions[3] = {basis.p, basis.t, basis.a};
+		for (int i = 0; i < 3; ++i, ++row)
+		{
+			const Lanes& e = directions[i];
+			const int at = row * skip;
+			Lanes angularA = crossLanes(e, rA), angularB = crossLanes(rB, e);
+			btScalar error = -errorScale(kLinearKind + i) * dotXyz(e, c);
+			if (shift && i < 2)  // a × a = 0: the axial row needs none
+			{
+				const Lanes w = crossLanes(basis.a, e);
+				const btScalar wu = dotXyz(turnedU, w), wv = dotXyz(turnedV, w);
+				const btScalar cu = delta * (vv * wu - uv * wv) / det, cv = delta * (uu * wv - uv * wu) / det;
+				const Lanes g = turnedU * cu + turnedV * cv;
+				angularA += g;  // minus (c_u, c_v)·δ times the quaternion rows, whose A side is −g
+				angularB -= g;
+				error -= cu * errorU + cv * errorV;
+			}
+			storeXyz(info->m_J1linearAxis + at, -e);
+			storeXyz(info->m_J2linearAxis + at, e);
+			storeXyz(info->m_J1angularAxis + at, angularA);
+			storeXyz(info->m_J2angularAxis + at, angularB);
+			info->m_constraintError[at] = error;
+			rowCfmOverride(kLinearKind + i, at);
+		}
+	}
+
+	const int atU = row * skip, atV = atU + skip;
+	storeXyz(info->m_J1angularAxis + atU, -turnedU);
+	storeXyz(info->m_J2angularAxis + atU, turnedU);
+	storeXyz(info->m_J1angularAxis + atV, -turnedV);
+	storeXyz(info->m_J2angularAxis + atV, turnedV);
+	info->m_constraintError[atU] = errorU;
+	info->m_constraintError[atV] = errorV;
+	rowCfmOverride(kAngularKind, atU);
+	rowCfmOverride(kAngularKind + 1, atV);
+	return row + 2;
+}
+
+int btQuaternionHingeConstraint::computePositionRows(const btTransform& transA, const btTransform& transB, btScalar* C,
+													 btScalar* jacobian) const
+{
+	// The same equations as the solver's rows, unrotated: point rows along world x, y, z (row i: J1 = (−e_i, e_i × r_A),
+	// J2 = (e_i, r_B × e_i)), then the two quaternion rows (Q7, Q9; Q12 past 90°): J1 = (0, −g), J2 = (0, g).
+	Pose pose;
+	poseAt(transA, transB, pose);
+	int rows = 0;
+	if (!m_settings.angularOnly)
+	{
+		const btVector3 rA = pose.pivotA - transA.getOrigin();
+		const btVector3 rB = pose.pivotB - transB.getOrigin();
+		const btVector3 c = pose.pivotB - pose.pivotA;
+		for (; rows < 3; ++rows)
+		{
+			btVector3 e(0, 0, 0);
+			e[rows] = 1;
+			const btVector3 angularA = e.cross(rA), angularB = rB.cross(e);
+			btScalar* j = jacobian + 12 * rows;
+			for (int k = 0; k < 3; ++k)
+			{
+				j[k] = -e[k];
+				j[3 + k] = angularA[k];
+				j[6 + k] = e[k];
+				j[9 + k] = angularB[k];
+			}
+			C[rows] = c[rows];
+		}
+	}
+	AngularRows angular;
+	computeAngularRowsFromAxes(pose.axesA, pose.q, angular);
+	const btVector3* g[2] = {&angular.rowU, &angular.rowV};
+	const btScalar value[2] = {angular.errorU, angular.errorV};
+	for (int r = 0; r < 2; ++r, ++rows)
+	{
+		btScalar* j = jacobian + 12 * rows;
+		for (int k = 0; k < 3; ++k)
+		{
+			j[k] = 0;
+			j[3 + k] = -(*g[r])[k];
+			j[6 + k] = 0;
+			j[9 + k] = (*g[r])[k];
+		}
+		C[rows] = value[r];
+	}
+	return rows;
+}
+
+void btQuaternionHingeConstraint::fillRows(btConstraintInfo2* info, const btTransform& transA,
+										   const btTransform& transB, const btVector3& angVelA,
+										   const btVector3& angVelB)
+{
+	// none when getInfo1 reserved none, or fewer than the bilateral rows (angular-only turned off in between)
+	if (m_numRows < (m_settings.angularOnly ? 2 : 5)) return;
+	m_lastTimeStep = btScalar(1) / info->fps;
+	// the pose getInfo1 cached, used in place; else computed here (no copy either way)
+	Pose computed;
+	if (!m_poseCached) poseAt(transA, transB, computed);
+	const Pose& pose = m_poseCached ? m_pose : computed;
+	m_poseCached = false;  // the cache belongs to this getInfo1/getInfo2 pair
+	int row = fillBilateralRows(info, transA, transB, pose);
+	const int skip = info->rowskip;
+
+	// Never more rows than the last getInfo1 reserved (m_numRows), whatever changed since: a setter called between
+	// the two, or getInfo2NonVirtual's own limit test. Dropped first: the limit row, then friction (the order below
+	// writes the drive first).
+	const int budget = m_numRows;
+	const bool drive = driveActive(m_settings) && row < budget;
+	const bool friction = m_settings.maxFrictionTorque > 0 && row + (drive ? 1 : 0) < budget;
+	const bool limitRowFits = row + (drive ? 1 : 0) + (friction ? 1 : 0) < budget;
+	if ((m_limitSign == 0 || !limitRowFits) && !drive && !friction) return;
+
+	// Axis part: rows along J_α = σ R_A t (HingeAngle.h: the exact gradient of the angle within 90° of assembly).
+	// (In SIMD lanes, MatrixLanes.h: btVector3's products, the same bits.)
+	const btScalar sigma = userSign(m_settings.useReferenceFrameA);
+	const Lanes axis =
+		(pose.axialKnown ? lanesOf(pose.axial) : timesTransposed(pose.axesA, axialRowDirection(pose.q))) * sigma;
+	const btScalar rate = dotXyz(axis, lanesOf(angVelB) - lanesOf(angVelA));
+	const btScalar normalErp = rowErp(kAxialKind, info->erp);
+	auto emit = [&](const AxialRow& axial, bool setCfm, btScalar cfm) {
+		const int at = row * skip;
+		storeXyz(info->m_J1angularAxis + at, -axis);
+		storeXyz(info->m_J2angularAxis + at, axis);
+		info->m_constraintError[at] = axial.error;
+		info->m_lowerLimit[at] = axial.lower;
+		info->m_upperLimit[at] = axial.upper;
+		if (setCfm) info->cfm[at] = cfm;
+		++row;
+	};
+	const bool axialCfm = (m_settings.flags & (BT_QHINGE_FLAGS_CFM_ROW0 << kAxialKind)) != 0;
+	if (drive)
+	{
+		btScalar invEffectiveMass = 0;
+		if (m_settings.driveMode == BT_QHINGE_DRIVE_SPRING)
+		{
+			btVector3 a;
+			storeLanes(a, axis);
+			invEffectiveMass = a.dot(m_rbA.getInvInertiaTensorWorld() * a * m_rbA.getAngularFactor()) +
+							   a.dot(m_rbB.getInvInertiaTensorWorld() * a * m_rbB.getAngularFactor());
+		}
+		const btScalar angle = needsAngle() ? m_multiTurnAngle : btScalar(0);
+		emit(driveRow(m_settings, angle, rate, info->fps, invEffectiveMass), axialCfm && m_settings.driveMode != BT_QHINGE_DRIVE_SPRING,
+			 m_settings.rowCfm[kAxialKind]);
+	}
+	if (friction) emit(frictionRow(m_settings, info->fps), axialCfm, m_settings.rowCfm[kAxialKind]);
+	// The limit row comes last: Gauss–Seidel leaves each sweep with the last row satisfied, so a stop is never crossed
+	// because a drive row was solved after it (a motor driven into a stop is held by the stop).
+	if (m_limitSign != 0 && limitRowFits)
+	{
+		LimitState limit;  // as testLimit found it in getInfo1 (or getInfo2NonVirtual)
+		limit.sign = m_limitSign;
+		limit.locked = m_limitLocked;
+		limit.speculative = m_limitSpeculative;
+		limit.distance = m_limitDistance;
+		const btScalar stopErp = (m_settings.flags & BT_QHINGE_FLAGS_ERP_STOP) ? m_settings.stopErp : normalErp;
+		emit(limitRow(m_settings, limit, rate, info->fps, stopErp), (m_settings.flags & BT_QHINGE_FLAGS_CFM_STOP) != 0,
+			 m_settings.stopCfm);
+	}
+}
