@@ -70,7 +70,7 @@ btQuaternionHingeStabilizer::btQuaternionHingeStabilizer(const btQuaternionHinge
 	if (checkSettings("btQuaternionHingeStabilizer", settings)) m_settings = settings;
 }
 
-btQuaternionHingeStabilizer::~btQuaternionHingeStabilizer() = default;
+btQuaternionHingeStabilizer::~btQuaternionHingeStabilizer() { delete m_impl; }
 
 void btQuaternionHingeStabilizer::setSettings(const btQuaternionHingeStabilizerSettings& settings)
 {

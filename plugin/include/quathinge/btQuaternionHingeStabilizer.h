@@ -65,8 +65,6 @@ Eigen is a private dependency of this library: nothing here includes it.
 #include "LinearMath/btScalar.h"
 #include "quathinge/quathinge_stabilizer_export.h"
 
-#include <memory>
-
 class btCollisionWorld;
 class btDynamicsWorld;
 class btIDebugDraw;
@@ -198,7 +196,7 @@ private:
 	struct Impl;
 	btQuaternionHingeStabilizerSettings m_settings;
 	btQuaternionHingeStabilizerStats m_stats;
-	std::unique_ptr<Impl> m_impl;
+	Impl* m_impl;  // the islands and their scan (owned; the class is not copyable)
 };
 
 #endif  // BT_QUATERNION_HINGE_STABILIZER_H

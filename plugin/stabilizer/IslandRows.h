@@ -1,0 +1,168 @@
+// The rows of an island at its bodies' current state (docs/MATH.md Q13, Q14): C and J of every joint (the joint's
+// own computePositionRows and computeAngleRow), J v, and how far each is from converged against its tolerance and
+// rounding floor (see IslandProjection.cpp for the thresholds' reasons).
+#ifndef QUATHINGE_STABILIZER_ISLAND_ROWS_H
+#define QUATHINGE_STABILIZER_ISLAND_ROWS_H
+
+#include "StabilizerIsland.h"
+
+#include "quathinge/btQuaternionHingeConstraint.h"
+
+#include "BulletDynamics/Dynamics/btRigidBody.h"
+
+namespace quathinge
+{
+namespace stabilizer
+{
+inline btScalar maxAbs(const btVector3& v) { return btMax(btFabs(v.x()), btMax(btFabs(v.y()), btFabs(v.z()))); }
+
+#ifdef BT_DEBUG
+// The linear part of every row is ±[I₃; 0] (point rows) or 0 (quaternion rows): what JointSlot::linearSign encodes.
+inline bool hasPointStructure(const btScalar* jac, int rows, int linearRows)
+{
+	for (int r = 0; r < rows; ++r)
+		for (int k = 0; k < 3; ++k)
+		{
+			const btScalar expected = (r < linearRows && r == k) ? btScalar(1) : btScalar(0);
+			if (jac[12 * r + k] != -expected || jac[12 * r + 6 + k] != expected) return false;
+		}
+	return true;
+}
+#endif
+
+struct PositionResidual
+{
+	btScalar linear = 0;         // ‖C‖∞ over the linear rows (m)
+	btScalar angular = 0;        // over the quaternion and limit rows (rad)
+	btScalar normalized = 0;     // max over rows of |C| / max(tolerance, the row's rounding floor): ≤ 1 is converged
+	bool limitsChanged = false;  // some limit row's activity differs from the factorized K
+	btScalar max() const { return btMax(linear, angular); }
+};
+
+// The rows of every joint at the bodies' current transforms, and ‖C‖ against tolerance and the rounding floors.
+template <int R>
+PositionResidual evaluatePositions(BlockIsland<R>& island, btScalar tolerance)
+{
+	PositionResidual res;
+	const btScalar angularThreshold = btMax(tolerance, 4 * SIMD_EPSILON);
+	btScalar c[5];
+	btScalar jac[60];
+	for (size_t j = 0; j < island.joints.size(); ++j)
+	{
+		JointSlot& js = island.joints[j];
+		JointBlock<R>& jb = island.blocks[j];
+		const btTransform& tA = js.rigid[0]->getCenterOfMassTransform();
+		const btTransform& tB = js.rigid[1]->getCenterOfMassTransform();
+		const int rows = js.joint->computePositionRows(tA, tB, c, jac);
+		const int linearRows = rows - 2;
+		btAssert(hasPointStructure(jac, rows, linearRows));
+		btScalar linear = 0, angular = 0;
+		for (int r = 0; r < rows; ++r)
+		{
+			jb.c[r] = c[r];
+			for (int k = 0; k < 12; ++k) jb.jacobian(r, k) = jac[12 * r + k];
+			btScalar& worst = r < linearRows ? linear : angular;
+			worst = btMax(worst, btFabs(c[r]));
+		}
+		// The pivot's rounding floor: 4ε·max(1 m, |x|) at the larger of the two bodies' coordinates.
+		const btScalar coordinate = btMax(maxAbs(tA.getOrigin()), maxAbs(tB.getOrigin()));
+		const btScalar linearThreshold = btMax(tolerance, 4 * SIMD_EPSILON * btMax(btScalar(1), coordinate));
+		js.linearThreshold = linearThreshold;
+		js.angularThreshold = angularThreshold;
+		res.linear = btMax(res.linear, linear);
+		res.angular = btMax(res.angular, angular);
+		res.normalized = btMax(res.normalized, btMax(linear / linearThreshold, angular / angularThreshold));
+		if (!js.limitSlot) continue;
+		btAssert(R == 6);  // an island with a limit slot works in 6-row blocks
+
+		// The limit row: the multi-turn angle α continued from the step's reference, and its gradient (the joint's own
+		// Q11, btQuaternionHingeConstraint::computeAngleRow).
+		btVector3 g;
+		js.angle = js.joint->computeAngleRow(tA, tB, js.angleReference, g);
+		for (int k = 0; k < 3; ++k)
+		{
+			js.limitGradient[k] = 0;
+			js.limitGradient[3 + k] = -g[k];
+			js.limitGradient[6 + k] = 0;
+			js.limitGradient[9 + k] = g[k];
+		}
+		if (js.limitTouched == 0)
+		{
+			if (js.angle < js.joint->getLowerLimit()) js.limitTouched = 1;
+			else if (js.angle > js.joint->getUpperLimit()) js.limitTouched = -1;
+		}
+		js.limitActive = js.limitTouched != 0;
+		const int r = js.bilateralRows;
+		const btScalar stop = js.limitTouched > 0 ? js.joint->getLowerLimit() : js.joint->getUpperLimit();
+		jb.c[r] = js.limitActive ? js.angle - stop : 0;
+		if (js.limitActive) jb.jacobian.row(r) = js.limitGradient;
+		else jb.jacobian.row(r).setZero();
+		res.angular = btMax(res.angular, btFabs(btScalar(jb.c[r])));
+		res.normalized = btMax(res.normalized, btFabs(btScalar(jb.c[r])) / angularThreshold);
+		if (js.limitActive != js.limitActiveInFactor) res.limitsChanged = true;
+	}
+	return res;
+}
+
+struct VelocityResidual
+{
+	btScalar max = 0;            // ‖J v‖∞ (m/s, rad/s)
+	btScalar normalized = 0;     // max over rows of |J v| / its threshold: ≤ 1 is converged
+	bool limitsChanged = false;  // some limit row's activity differs from the factorized K
+};
+
+// J v per row (into JointBlock::jv). decideLimits: choose which limit rows take part (else keep the choice).
+// A row's threshold is its position threshold over the time step (what it would drift in the next step), or the
+// rounding floor of J v itself, 4ε·(|v| + |ω|·1 m) of the joint's bodies.
+template <int R>
+VelocityResidual evaluateVelocities(BlockIsland<R>& island, bool decideLimits, btScalar timeStep)
+{
+	VelocityResidual res;
+	for (size_t j = 0; j < island.joints.size(); ++j)
+	{
+		JointSlot& js = island.joints[j];
+		JointBlock<R>& jb = island.blocks[j];
+		Eigen::Matrix<double, 12, 1> v;
+		btScalar speed = 0;
+		for (int s = 0; s < 2; ++s)
+		{
+			const btVector3& lin = js.rigid[s]->getLinearVelocity();
+			const btVector3& ang = js.rigid[s]->getAngularVelocity();
+			for (int k = 0; k < 3; ++k)
+			{
+				v[6 * s + k] = lin[k];
+				v[6 * s + 3 + k] = ang[k];
+			}
+			speed = btMax(speed, maxAbs(lin) + maxAbs(ang));
+		}
+		if (js.limitSlot)
+		{
+			const int r = js.bilateralRows;
+			if (decideLimits)
+			{
+				// α̇ = 0 only while moving further past a stop violated this step (lower: α̇ < 0, upper: α̇ > 0).
+				const double rate = js.limitGradient.dot(v.transpose());
+				js.limitActive = (js.limitTouched > 0 && rate < 0) || (js.limitTouched < 0 && rate > 0);
+			}
+			if (js.limitActive) jb.jacobian.row(r) = js.limitGradient;
+			else jb.jacobian.row(r).setZero();
+			if (js.limitActive != js.limitActiveInFactor) res.limitsChanged = true;
+		}
+		jb.jv.noalias() = jb.jacobian * v;
+		const btScalar floor = 4 * SIMD_EPSILON * btMax(btScalar(1), speed);
+		const int linearRows = js.bilateralRows - 2;
+		for (int r = 0; r < js.rows; ++r)
+		{
+			const btScalar value = btFabs(btScalar(jb.jv[r]));
+			const btScalar threshold = (r < linearRows ? js.linearThreshold : js.angularThreshold) / timeStep;
+			res.max = btMax(res.max, value);
+			res.normalized = btMax(res.normalized, value / btMax(threshold, floor));
+		}
+	}
+	return res;
+}
+
+}  // namespace stabilizer
+}  // namespace quathinge
+
+#endif

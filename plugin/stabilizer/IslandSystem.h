@@ -1,0 +1,131 @@
+// The island's linear system (docs/MATH.md Q13, Q14): the directions M⁻¹ Jᵀ, K = J M⁻¹ Jᵀ + ε s I assembled in
+// blocks, its factorization (BlockLDLT on trees, SparseLDLT with loops) and the solve λ = K⁻¹(−r) with the bodies'
+// deltas Δ = M⁻¹ Jᵀ λ.
+#ifndef QUATHINGE_STABILIZER_ISLAND_SYSTEM_H
+#define QUATHINGE_STABILIZER_ISLAND_SYSTEM_H
+
+#include "StabilizerIsland.h"
+
+namespace quathinge
+{
+namespace stabilizer
+{
+// Smallest pivot BlockLDLT accepts, relative to the island's scale s: far below ε s (1e-9 s by default), far above
+// the rounding noise of a singular pivot in double (~1e-16 s).
+const double kPivotFloor = 1e-13;
+
+// M⁻¹ Jᵀ per joint side (its angular part h; the linear part is linearSign·m⁻¹), at the current J and inertias.
+template <int R>
+void computeDirections(BlockIsland<R>& island)
+{
+	for (size_t j = 0; j < island.joints.size(); ++j)
+	{
+		const JointSlot& js = island.joints[j];
+		JointBlock<R>& jb = island.blocks[j];
+		for (int s = 0; s < 2; ++s)
+			if (js.body[s] >= 0)
+				jb.h[s].noalias() = island.bodies[js.body[s]].invInertia *
+									jb.jacobian.template block<R, 3>(0, 6 * s + 3).transpose();
+	}
+}
+
+// K = J M⁻¹ Jᵀ + regularization into island.k (the directions must be current). Returns the scale s.
+// Per pair of joint sides on body b: J_i M_b⁻¹ J_jᵀ = σ_i σ_j diag(m_b⁻¹) (top-left 3×3) + A_i h_j.
+template <int R>
+double assemble(BlockIsland<R>& island, double regularization)
+{
+	constexpr int kStorage = BlockShape<R>::kStorageRows;
+	double trace = 0;
+	int activeRows = 0;
+	for (size_t j = 0; j < island.joints.size(); ++j)
+	{
+		const JointSlot& js = island.joints[j];
+		const JointBlock<R>& jb = island.blocks[j];
+		Block<R>& d = island.k.diag[j];
+		d.setZero();
+		for (int s = 0; s < 2; ++s)
+		{
+			if (js.body[s] < 0) continue;
+			// whole storage columns (their storage rows are zero in J): vectorized
+			d.noalias() += jb.jacobian.template block<kStorage, 3>(0, 6 * s + 3) * jb.h[s];
+			if (js.linearSign[s] != 0) d.template topLeftCorner<3, 3>().diagonal() += island.bodies[js.body[s]].invMass;
+		}
+		for (int r = 0; r < js.bilateralRows; ++r) trace += d(r, r);
+		activeRows += js.bilateralRows;
+		if (js.limitSlot && js.limitActive)
+		{
+			trace += d(js.bilateralRows, js.bilateralRows);
+			++activeRows;
+		}
+	}
+	for (Block<R>& b : island.k.lower) b.setZero();
+	for (const Coupling& c : island.couplings)
+	{
+		const JointSlot& ji = island.joints[c.i];
+		const JointSlot& jj = island.joints[c.j];
+		Block<R>& b = island.k.lower[c.block];
+		b.noalias() +=
+			island.blocks[c.i].jacobian.template block<kStorage, 3>(0, 6 * c.sideI + 3) * island.blocks[c.j].h[c.sideJ];
+		const double sign = ji.linearSign[c.sideI] * jj.linearSign[c.sideJ];
+		if (sign != 0)
+			b.template topLeftCorner<3, 3>().diagonal() += sign * island.bodies[ji.body[c.sideI]].invMass;
+	}
+	// ε s on active rows; s on padding and inactive limit rows (their J rows are zero).
+	const double scale = (activeRows > 0 && trace > 0) ? trace / activeRows : 1.0;
+	for (size_t j = 0; j < island.joints.size(); ++j)
+	{
+		JointSlot& js = island.joints[j];
+		Block<R>& d = island.k.diag[j];
+		const int activeEnd = js.bilateralRows + ((js.limitSlot && js.limitActive) ? 1 : 0);
+		for (int r = 0; r < R; ++r) d(r, r) = r < activeEnd ? d(r, r) + regularization * scale : scale;
+		js.limitActiveInFactor = js.limitActive;
+	}
+	return scale;
+}
+
+// Assembles and factorizes K at the current state. False if the factorization failed.
+template <int R>
+bool refactorize(BlockIsland<R>& island, double regularization, ProjectionResult& result)
+{
+	computeDirections(island);
+	const double scale = assemble(island, regularization);
+	++result.factorizations;
+	if (island.useSparse)
+	{
+		if (island.sparse->factorize(island.k)) return true;
+		++result.numericalIssues;
+		return false;
+	}
+	result.numericalIssues += island.block.factorize(island.k, kPivotFloor * scale);
+	return true;
+}
+
+// λ = K⁻¹(−r) with the current factors, r = C (the position stage) or J v (the velocity stage), then
+// Δ_b = Σ M_b⁻¹ J_bᵀ λ per body (into IslandBody::delta).
+template <int R>
+void solveDeltas(BlockIsland<R>& island, BlockVector<R> JointBlock<R>::*rhs, ProjectionResult& result)
+{
+	for (size_t j = 0; j < island.joints.size(); ++j) island.lambda[j] = -(island.blocks[j].*rhs);
+	if (island.useSparse) island.sparse->template solve<R>(island.lambda.data());
+	else island.block.solve(island.k, island.lambda.data());
+	++result.solves;
+	for (IslandBody& b : island.bodies) b.delta.setZero();
+	for (size_t j = 0; j < island.joints.size(); ++j)
+	{
+		const JointSlot& js = island.joints[j];
+		const JointBlock<R>& jb = island.blocks[j];
+		const BlockVector<R>& lambda = island.lambda[j];
+		for (int s = 0; s < 2; ++s)
+		{
+			if (js.body[s] < 0) continue;
+			IslandBody& b = island.bodies[js.body[s]];
+			if (js.linearSign[s] != 0) b.delta.head<3>() += js.linearSign[s] * b.invMass.cwiseProduct(lambda.template head<3>());
+			b.delta.tail<3>().noalias() += jb.h[s] * lambda.template head<R>();
+		}
+	}
+}
+
+}  // namespace stabilizer
+}  // namespace quathinge
+
+#endif
