@@ -19,8 +19,8 @@ using namespace quathinge;
 void btQuaternionHingeConstraint::enableAngularMotor(bool enable, btScalar targetVelocity, btScalar maxMotorImpulse)
 {
 	const char* fn = "btQuaternionHingeConstraint::enableAngularMotor";
-	if (!check::finite(fn, "targetVelocity", targetVelocity) || !check::finite(fn, "maxMotorImpulse", maxMotorImpulse) ||
-		!check::nonNegative(fn, "maxMotorImpulse", maxMotorImpulse))
+	if (!check::finite(fn, "targetVelocity", targetVelocity) ||
+		!check::finiteNonNegative(fn, "maxMotorImpulse", maxMotorImpulse))
 		return;
 	m_settings.motorTargetVelocity = targetVelocity;
 	m_settings.maxMotorImpulse = maxMotorImpulse;
@@ -36,7 +36,7 @@ void btQuaternionHingeConstraint::enableMotor(bool enable)
 void btQuaternionHingeConstraint::setMaxMotorImpulse(btScalar maxMotorImpulse)
 {
 	const char* fn = "btQuaternionHingeConstraint::setMaxMotorImpulse";
-	if (!check::finite(fn, "maxMotorImpulse", maxMotorImpulse) || !check::nonNegative(fn, "maxMotorImpulse", maxMotorImpulse))
+	if (!check::finiteNonNegative(fn, "maxMotorImpulse", maxMotorImpulse))
 		return;
 	m_settings.maxMotorImpulse = maxMotorImpulse;
 }

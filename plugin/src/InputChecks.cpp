@@ -141,6 +141,11 @@ bool nonNegative(const char* fn, const char* param, btScalar value)
 	return value >= 0 || fail(fn, param, "must be >= 0", value);
 }
 
+bool finiteNonNegative(const char* fn, const char* param, btScalar value)
+{
+	return finite(fn, param, value) && nonNegative(fn, param, value);
+}
+
 bool positive(const char* fn, const char* param, btScalar value)
 {
 	return value > 0 || fail(fn, param, "must be > 0", value);

@@ -88,10 +88,7 @@ btQuaternionHingeConstraint::btQuaternionHingeConstraint(btRigidBody& rbA, btRig
 	const btVector3 axisB1 = arcTurnedColumn(axisA, axisA1, axisB);
 	const btVector3 axisB2 = axisB.cross(axisB1);
 
-	m_settings.frameInA = btTransform(basisFromColumns(axisA1, axisA2, axisA), pivotInA);
-	m_settings.frameInB = btTransform(basisFromColumns(axisB1, axisB2, axisB), pivotInB);
-	m_settings.useReferenceFrameA = useReferenceFrameA;
-	initFromSettings();
+	initFrames(btTransform(basisFromColumns(axisA1, axisA2, axisA), pivotInA), btTransform(basisFromColumns(axisB1, axisB2, axisB), pivotInB), useReferenceFrameA);
 }
 
 btQuaternionHingeConstraint::btQuaternionHingeConstraint(btRigidBody& rbA, const btVector3& pivotInA,
@@ -119,10 +116,7 @@ btQuaternionHingeConstraint::btQuaternionHingeConstraint(btRigidBody& rbA, const
 		refuseConstruction();
 		return;
 	}
-	m_settings.frameInA = btTransform(basisFromColumns(axisA1, axisA2, axisA), pivotInA);
-	m_settings.frameInB = frameB;
-	m_settings.useReferenceFrameA = useReferenceFrameA;
-	initFromSettings();
+	initFrames(btTransform(basisFromColumns(axisA1, axisA2, axisA), pivotInA), frameB, useReferenceFrameA);
 }
 
 btQuaternionHingeConstraint::btQuaternionHingeConstraint(btRigidBody& rbA, btRigidBody& rbB,
@@ -137,10 +131,7 @@ btQuaternionHingeConstraint::btQuaternionHingeConstraint(btRigidBody& rbA, btRig
 		refuseConstruction();
 		return;
 	}
-	m_settings.frameInA = rbAFrame;
-	m_settings.frameInB = rbBFrame;
-	m_settings.useReferenceFrameA = useReferenceFrameA;
-	initFromSettings();
+	initFrames(rbAFrame, rbBFrame, useReferenceFrameA);
 }
 
 btQuaternionHingeConstraint::btQuaternionHingeConstraint(btRigidBody& rbA, const btTransform& rbAFrame,
@@ -156,10 +147,7 @@ btQuaternionHingeConstraint::btQuaternionHingeConstraint(btRigidBody& rbA, const
 		refuseConstruction();
 		return;
 	}
-	m_settings.frameInA = rbAFrame;
-	m_settings.frameInB = frameB;
-	m_settings.useReferenceFrameA = useReferenceFrameA;
-	initFromSettings();
+	initFrames(rbAFrame, frameB, useReferenceFrameA);
 }
 
 btQuaternionHingeConstraint::btQuaternionHingeConstraint(btRigidBody& rbA, btRigidBody& rbB,
@@ -285,6 +273,15 @@ void btQuaternionHingeConstraint::poseAt(const btTransform& transA, const btTran
 	multiplyRows(pose.axesA, basisB, relative);  // R_Aᵀ R_B
 	rotationToQuaternion(relative, pose.q);
 	pose.axialKnown = false;
+}
+
+void btQuaternionHingeConstraint::initFrames(const btTransform& frameA, const btTransform& frameB,
+											 bool useReferenceFrameA)
+{
+	m_settings.frameInA = frameA;
+	m_settings.frameInB = frameB;
+	m_settings.useReferenceFrameA = useReferenceFrameA;
+	initFromSettings();
 }
 
 void btQuaternionHingeConstraint::initFromSettings()

@@ -318,6 +318,7 @@ private:
 		bool axialKnown;
 	};
 	void poseAt(const btTransform& transA, const btTransform& transB, Pose& pose) const;
+	void initFrames(const btTransform& frameA, const btTransform& frameB, bool useReferenceFrameA);  // + initFromSettings
 	void initFromSettings();
 	void refuseConstruction();
 	void validateFramesIfEdited();
