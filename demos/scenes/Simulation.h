@@ -1,5 +1,5 @@
 // A scene's Bullet world for one joint kind (JointKinds.h), without the metrics: what runScene measures and what the
-// benchmark (demos/bench/) builds and steps. Defined in JointKinds.cpp.
+// benchmark (demos/bench/) builds and steps. Defined in Simulation.cpp; the multibody kind in SimulationMultiBody.cpp.
 #ifndef QUATHINGE_SIMULATION_H
 #define QUATHINGE_SIMULATION_H
 
@@ -34,6 +34,9 @@ struct MeasuredJoint
 	double theta = 0;             // continuous θ measured from the frames (independent of the kind's own angle)
 	bool thetaValid = false;
 };
+
+/// Updates j.theta from the joint's frames (Simulation.cpp): at the start, and every step for runScene's limit figures.
+void trackTheta(MeasuredJoint& j);
 
 /// A world with one kind of joint in it: the scene's bodies, and its joints from the kind's factory (JointFactory.h)
 /// or, for the multibody kind, btMultiBody trees. Throws std::runtime_error for a scene the kind cannot build (multibody:

@@ -1,5 +1,5 @@
 // The spider of bullet3's MotorDemo, read from demos/models/spider.bullet with Debian's world importer: 27
-// bodies, 24 btHingeConstraints with limits and motors. The kinds convert its hinges (JointKinds.cpp).
+// bodies, 24 btHingeConstraints with limits and motors. The kinds convert its hinges (Simulation.cpp).
 #include "SceneSpec.h"
 
 #include <fstream>

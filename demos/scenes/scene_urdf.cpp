@@ -20,10 +20,11 @@
 // message) make the scene unavailable with the file, the part and the reason. Not modelled (as pybullet's
 // maximal-coordinate import): joint <dynamics> damping and friction, effort and velocity limits, <mimic>; the
 // description counts the joints that have them.
+// This file builds the scene; the XML pre-pass is UrdfPrepass.cpp, the collision shapes and meshes UrdfCollision.cpp.
 #include "SceneSpec.h"
+#include "UrdfLoader.h"
 
 #ifdef QUATHINGE_HAVE_URDFDOM
-#include <tinyxml2.h>
 #include <urdf_parser/urdf_parser.h>
 #ifdef QUATHINGE_HAVE_CONSOLE_BRIDGE
 #include <console_bridge/console.h>
@@ -31,13 +32,8 @@
 #endif
 
 #include <algorithm>
-#include <cctype>
 #include <cmath>
-#include <cstdint>
-#include <cstring>
-#include <filesystem>
 #include <fstream>
-#include <limits>
 #include <map>
 #include <mutex>
 #include <sstream>
@@ -66,149 +62,14 @@ btVector3 boxFromInertia(double mass, const btVector3& moments)
 }  // namespace
 
 #ifdef QUATHINGE_HAVE_URDFDOM
+using namespace urdfimport;
+
 namespace
 {
 /// A massless link's stand-in: this fraction of the lightest link's mass and of the model's smallest moment of
 /// inertia. Smaller is nearer the massless model but harder for the maximal-coordinate solver: humanoid.urdf, 3 s at
 /// 60 Hz, stock's max separation is 11.7 m at 0.01, 1.13 m at 0.1, 0.14 m at 1 (quaternion+stab ≤ 1.5e-6 m in all).
 const double kMasslessMassFraction = 0.1;
-
-/// A part of the model the loader cannot represent: the scene is refused with this message.
-struct Refusal : std::runtime_error
-{
-	using std::runtime_error::runtime_error;
-};
-
-btTransform toBullet(const urdf::Pose& pose)
-{
-	return btTransform(btQuaternion(btScalar(pose.rotation.x), btScalar(pose.rotation.y), btScalar(pose.rotation.z),
-									btScalar(pose.rotation.w)),
-					   btVector3(btScalar(pose.position.x), btScalar(pose.position.y), btScalar(pose.position.z)));
-}
-
-/// What the XML says that urdfdom would reject or read differently, and the XML urdfdom then reads.
-struct Preprocessed
-{
-	std::string xml;
-	std::map<std::string, std::vector<bool>> capsule;  ///< per link, per <collision> in order: a <capsule>
-	/// per joint with <limit>: pybullet's lower and upper (absent: 0 and −1; urdfdom reads an absent bound as 0)
-	std::map<std::string, std::pair<double, double>> limits;
-	std::vector<std::string> inertial;  ///< the links with an <inertial> element
-};
-
-double attributeOr(const tinyxml2::XMLElement& e, const char* name, double fallback)
-{
-	const char* text = e.Attribute(name);
-	if (!text) return fallback;
-	std::istringstream in(text);
-	in.imbue(std::locale::classic());
-	double value = fallback;
-	in >> value;
-	return value;
-}
-
-/// A vector attribute as pybullet reads it (the first three numbers of three or more; a mesh's single scale
-/// number for all three); left as it is when it does not read as numbers (urdfdom then says what is wrong).
-void normalizeVector(tinyxml2::XMLElement& e, const char* attribute, bool scalarForAll)
-{
-	const char* text = e.Attribute(attribute);
-	if (!text) return;
-	std::istringstream in(text);
-	in.imbue(std::locale::classic());
-	std::vector<std::string> words;
-	for (std::string w; in >> w;) words.push_back(w);
-	for (const std::string& w : words)
-	{
-		std::istringstream number(w);
-		number.imbue(std::locale::classic());
-		double value = 0;
-		if (!(number >> value) || !number.eof()) return;
-	}
-	if (words.size() == 1 && scalarForAll) words = {words[0], words[0], words[0]};
-	if (words.size() <= 3) return;
-	e.SetAttribute(attribute, (words[0] + " " + words[1] + " " + words[2]).c_str());
-}
-
-void normalizeVectors(tinyxml2::XMLElement& e)
-{
-	const std::string name = e.Name();
-	if (name == "origin")
-	{
-		normalizeVector(e, "xyz", false);
-		normalizeVector(e, "rpy", false);
-	}
-	else if (name == "axis") normalizeVector(e, "xyz", false);
-	else if (name == "box") normalizeVector(e, "size", false);
-	else if (name == "mesh") normalizeVector(e, "scale", true);
-	else if (name == "inertia" && e.Attribute("ixx") && e.Attribute("iyy") && e.Attribute("izz") &&
-			 !(e.Attribute("ixy") && e.Attribute("ixz") && e.Attribute("iyz")))
-	{
-		for (const char* product : {"ixy", "ixz", "iyz"}) e.SetAttribute(product, 0);  // pybullet: all three 0
-	}
-	for (tinyxml2::XMLElement* child = e.FirstChildElement(); child; child = child->NextSiblingElement())
-		normalizeVectors(*child);
-}
-
-/// Reads the XML as pybullet does where urdfdom differs: <capsule> becomes a <cylinder> (remembered, so the shape
-/// stays a capsule), a <limit> gets urdfdom's required effort and velocity (0, pybullet's default; neither is
-/// modelled), pybullet's limit defaults are kept, a top-level material defined again is dropped (urdfdom refuses
-/// it), vectors and inertias are read as pybullet reads them (normalizeVectors), and a joint type no hinge can be is
-/// refused by name.
-Preprocessed preprocess(const std::string& text)
-{
-	tinyxml2::XMLDocument doc;
-	if (doc.Parse(text.c_str(), text.size()) != tinyxml2::XML_SUCCESS)
-		throw Refusal(std::string("not well-formed XML: ") + doc.ErrorStr());
-	Preprocessed out;
-	tinyxml2::XMLElement* robot = doc.FirstChildElement("robot");
-	if (!robot) throw Refusal("no <robot> element");
-	auto capsuleToCylinder = [](tinyxml2::XMLElement* holder) {
-		tinyxml2::XMLElement* geometry = holder->FirstChildElement("geometry");
-		tinyxml2::XMLElement* shape = geometry ? geometry->FirstChildElement() : nullptr;
-		if (!shape || std::strcmp(shape->Name(), "capsule") != 0) return false;
-		shape->SetName("cylinder");  // same attributes (radius, length)
-		return true;
-	};
-	// a material defined twice at the top level: urdfdom refuses the file, pybullet takes it (materials only colour
-	// visuals, which are not used): the later definitions go
-	std::vector<std::string> materials;
-	for (tinyxml2::XMLElement* m = robot->FirstChildElement("material"); m;)
-	{
-		tinyxml2::XMLElement* next = m->NextSiblingElement("material");
-		const std::string name = m->Attribute("name") ? m->Attribute("name") : "";
-		if (std::find(materials.begin(), materials.end(), name) != materials.end()) robot->DeleteChild(m);
-		else materials.push_back(name);
-		m = next;
-	}
-	for (tinyxml2::XMLElement* link = robot->FirstChildElement("link"); link; link = link->NextSiblingElement("link"))
-	{
-		const char* name = link->Attribute("name");
-		std::vector<bool>& capsules = out.capsule[name ? name : ""];
-		if (link->FirstChildElement("inertial")) out.inertial.push_back(name ? name : "");
-		for (tinyxml2::XMLElement* c = link->FirstChildElement("collision"); c; c = c->NextSiblingElement("collision"))
-			capsules.push_back(capsuleToCylinder(c));
-		for (tinyxml2::XMLElement* v = link->FirstChildElement("visual"); v; v = v->NextSiblingElement("visual"))
-			capsuleToCylinder(v);  // visuals are not used: only so that urdfdom accepts the file
-	}
-	for (tinyxml2::XMLElement* joint = robot->FirstChildElement("joint"); joint; joint = joint->NextSiblingElement("joint"))
-	{
-		const std::string name = joint->Attribute("name") ? joint->Attribute("name") : "";
-		const std::string type = joint->Attribute("type") ? joint->Attribute("type") : "";
-		if (type == "prismatic" || type == "planar" || type == "floating" || type == "spherical")
-			throw Refusal("joint '" + name + "': type " + type + " cannot be represented (hinges only)");
-		if (tinyxml2::XMLElement* limit = joint->FirstChildElement("limit"))
-		{
-			out.limits[name] = {attributeOr(*limit, "lower", 0), attributeOr(*limit, "upper", -1)};
-			if (!limit->Attribute("effort")) limit->SetAttribute("effort", 0);
-			if (!limit->Attribute("velocity")) limit->SetAttribute("velocity", 0);
-		}
-	}
-	normalizeVectors(*robot);
-	tinyxml2::XMLPrinter printer;
-	doc.Print(&printer);
-	out.xml = printer.CStr();
-	return out;
-}
 
 #ifdef QUATHINGE_HAVE_CONSOLE_BRIDGE
 /// Collects urdfdom's error messages (so a refusal says what urdfdom found) while it is installed.
@@ -226,171 +87,6 @@ public:
 	std::string messages;
 };
 #endif
-
-/// The vertices (m, the mesh's frame, times `scale`) of an STL file, binary or ASCII.
-std::vector<btVector3> readStl(const std::string& path, const btVector3& scale)
-{
-	std::ifstream file(path, std::ios::binary);
-	if (!file) throw Refusal("mesh file not found: " + path);
-	const std::string data((std::istreambuf_iterator<char>(file)), std::istreambuf_iterator<char>());
-	std::vector<btVector3> points;
-	uint32_t triangles = 0;
-	if (data.size() >= 84) std::memcpy(&triangles, data.data() + 80, 4);  // STL is little-endian, as this machine
-	if (data.size() >= 84 && data.size() == 84 + 50 * size_t(triangles))
-	{
-		for (size_t t = 0; t < triangles; ++t)
-			for (int v = 0; v < 3; ++v)
-			{
-				float xyz[3];
-				std::memcpy(xyz, data.data() + 84 + 50 * t + 12 * (1 + v), sizeof xyz);  // after the normal
-				points.emplace_back(btScalar(xyz[0]) * scale.x(), btScalar(xyz[1]) * scale.y(), btScalar(xyz[2]) * scale.z());
-			}
-	}
-	else if (data.compare(0, 5, "solid") == 0)
-	{
-		std::istringstream in(data);
-		in.imbue(std::locale::classic());
-		std::string word;
-		while (in >> word)
-			if (word == "vertex")
-			{
-				double x = 0, y = 0, z = 0;
-				if (!(in >> x >> y >> z)) throw Refusal("malformed ASCII STL vertex in " + path);
-				points.emplace_back(btScalar(x) * scale.x(), btScalar(y) * scale.y(), btScalar(z) * scale.z());
-			}
-	}
-	else
-	{
-		throw Refusal("not an STL file (binary size or ASCII 'solid' header): " + path);
-	}
-	if (points.size() < 4) throw Refusal("mesh has fewer than 4 vertices: " + path);
-	for (const btVector3& p : points)
-		if (!std::isfinite(double(p.length2()))) throw Refusal("mesh has a non-finite vertex: " + path);
-	return points;
-}
-
-/// The convex pieces of a Wavefront OBJ file, as pybullet reads one for a moving link: the vertices of each group
-/// of faces ('g' and 'o' start a group) are one convex hull (m, the mesh's frame, times `scale`).
-std::vector<std::vector<btVector3>> readObj(const std::string& path, const btVector3& scale)
-{
-	std::ifstream file(path);
-	if (!file) throw Refusal("mesh file not found: " + path);
-	std::vector<btVector3> vertices;
-	std::vector<std::vector<btVector3>> groups(1);
-	std::string line;
-	for (int number = 1; std::getline(file, line); ++number)
-	{
-		std::istringstream in(line);
-		in.imbue(std::locale::classic());
-		std::string tag;
-		in >> tag;
-		if (tag == "v")
-		{
-			double x = 0, y = 0, z = 0;
-			if (!(in >> x >> y >> z))
-				throw Refusal("malformed OBJ vertex at line " + std::to_string(number) + " of " + path);
-			vertices.emplace_back(btScalar(x) * scale.x(), btScalar(y) * scale.y(), btScalar(z) * scale.z());
-		}
-		else if (tag == "f")
-		{
-			for (std::string corner; in >> corner;)
-			{
-				long index = 0;  // "v", "v/vt", "v//vn" or "v/vt/vn"; negative counts back from the last vertex
-				std::istringstream first(corner.substr(0, corner.find('/')));
-				const long count = long(vertices.size());
-				if (!(first >> index) || index == 0 || index > count || index < -count)
-					throw Refusal("OBJ face index out of range at line " + std::to_string(number) + " of " + path);
-				groups.back().push_back(vertices[size_t(index > 0 ? index - 1 : count + index)]);
-			}
-		}
-		else if ((tag == "g" || tag == "o") && !groups.back().empty())
-		{
-			groups.emplace_back();
-		}
-	}
-	if (groups.back().empty()) groups.pop_back();
-	if (groups.empty()) throw Refusal("mesh has no faces: " + path);
-	for (const std::vector<btVector3>& g : groups)
-		for (const btVector3& p : g)
-			if (!std::isfinite(double(p.length2()))) throw Refusal("mesh has a non-finite vertex: " + path);
-	return groups;
-}
-
-/// A mesh's file as pybullet finds it: package:// and file:// stripped, relative to the URDF's folder.
-std::string meshPath(const std::string& urdfPath, std::string name)
-{
-	for (const char* prefix : {"package://", "file://"})
-		if (name.rfind(prefix, 0) == 0) name.erase(0, std::strlen(prefix));
-	const std::filesystem::path p(name);
-	if (p.is_absolute()) return name;
-	return (std::filesystem::path(urdfPath).parent_path() / p).string();
-}
-
-/// One <collision> as pieces of a compound shape, in the link's frame: one piece, or one per convex part of an OBJ.
-std::vector<ShapePart> collisionParts(const urdf::Collision& collision, bool capsule, const std::string& urdfPath)
-{
-	ShapePart part;
-	part.local = toBullet(collision.origin);
-	// URDF's cylinders and capsules lie along z, the scene's along y: turn y onto z (+90° about x)
-	const btTransform yToZ(btQuaternion(btVector3(1, 0, 0), SIMD_HALF_PI));
-	const urdf::Geometry* geometry = collision.geometry.get();
-	if (!geometry) throw Refusal("a <collision> without geometry");
-	switch (geometry->type)
-	{
-		case urdf::Geometry::SPHERE:
-		{
-			const btScalar r = btScalar(static_cast<const urdf::Sphere*>(geometry)->radius);
-			part.shape = Shape::Sphere;
-			part.halfExtents = btVector3(r, r, r);
-			break;
-		}
-		case urdf::Geometry::BOX:
-		{
-			const urdf::Vector3& dim = static_cast<const urdf::Box*>(geometry)->dim;
-			part.shape = Shape::Box;
-			part.halfExtents = btVector3(btScalar(dim.x / 2), btScalar(dim.y / 2), btScalar(dim.z / 2));
-			break;
-		}
-		case urdf::Geometry::CYLINDER:
-		{
-			const auto* c = static_cast<const urdf::Cylinder*>(geometry);
-			const btScalar r = btScalar(c->radius), half = btScalar(c->length / 2);
-			part.shape = capsule ? Shape::Capsule : Shape::Cylinder;
-			part.halfExtents = btVector3(r, capsule ? half + r : half, r);  // a capsule's half length with its caps
-			part.local = part.local * yToZ;
-			break;
-		}
-		case urdf::Geometry::MESH:
-		{
-			const auto* mesh = static_cast<const urdf::Mesh*>(geometry);
-			const std::string file = meshPath(urdfPath, mesh->filename);
-			std::string extension = std::filesystem::path(file).extension().string();
-			std::transform(extension.begin(), extension.end(), extension.begin(),
-						   [](unsigned char ch) { return char(std::tolower(ch)); });
-			const btVector3 scale(btScalar(mesh->scale.x), btScalar(mesh->scale.y), btScalar(mesh->scale.z));
-			part.shape = Shape::ConvexHull;
-			if (extension == ".stl")
-			{
-				part.points = readStl(file, scale);
-				break;
-			}
-			if (extension != ".obj")
-				throw Refusal("mesh '" + mesh->filename + "': only STL and OBJ meshes are read");
-			std::vector<ShapePart> parts;
-			for (std::vector<btVector3>& points : readObj(file, scale))
-			{
-				parts.push_back(part);
-				parts.back().points = std::move(points);
-			}
-			return parts;
-		}
-		default: throw Refusal("unknown collision geometry type " + std::to_string(int(geometry->type)));
-	}
-	for (int k = 0; k < 3; ++k)
-		if (part.shape != Shape::ConvexHull && !(part.halfExtents[k] > 0 && std::isfinite(double(part.halfExtents[k]))))
-			throw Refusal("collision geometry with a size that is not positive and finite");
-	return {part};
-}
 
 /// The scene of a parsed, preprocessed model (throws Refusal naming the part it cannot represent).
 void buildScene(SceneSpec& s, const urdf::ModelInterface& model, const Preprocessed& pre, const std::string& path)
