@@ -16,6 +16,7 @@
 #include "JointKinds.h"
 #include "SceneSpec.h"
 #include "Simulation.h"
+#include "support/ScratchRows.h"
 
 #include "quathinge/btQuaternionHingeConstraint.h"
 #include "quathinge/btQuaternionHingeStabilizer.h"
@@ -25,56 +26,18 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstring>
+#include <cstdio>
 #include <memory>
 #include <stdexcept>
 #include <string>
 #include <vector>
 
 using namespace quathinge::scenes;
+using qh_test::ScratchRows;
 
 namespace
 {
 // ---- Per joint -------------------------------------------------------------------------------------------------------
-
-/// Rows as the sequential-impulse solver hands them to getInfo2 (as tests/support/World.h's ScratchRows): zeroed
-/// Jacobians and errors, bounds ±∞, rowskip 16. Not re-zeroed between calls: every call of one joint writes the same
-/// entries, and zeroing is the solver's cost (measured by the step cases), not the joint's.
-struct ScratchRows
-{
-	static constexpr int kRows = 8;
-	static constexpr int kStride = 16;
-	btScalar j1lin[kRows * kStride], j1ang[kRows * kStride], j2lin[kRows * kStride], j2ang[kRows * kStride];
-	btScalar error[kRows * kStride], cfm[kRows * kStride], lower[kRows * kStride], upper[kRows * kStride];
-	btTypedConstraint::btConstraintInfo2 info;
-	ScratchRows()
-	{
-		std::memset(j1lin, 0, sizeof(j1lin));
-		std::memset(j1ang, 0, sizeof(j1ang));
-		std::memset(j2lin, 0, sizeof(j2lin));
-		std::memset(j2ang, 0, sizeof(j2ang));
-		std::memset(error, 0, sizeof(error));
-		std::memset(cfm, 0, sizeof(cfm));
-		for (int i = 0; i < kRows * kStride; ++i)
-		{
-			lower[i] = -SIMD_INFINITY;
-			upper[i] = SIMD_INFINITY;
-		}
-		info.fps = 60;
-		info.erp = btScalar(0.2);
-		info.m_J1linearAxis = j1lin;
-		info.m_J1angularAxis = j1ang;
-		info.m_J2linearAxis = j2lin;
-		info.m_J2angularAxis = j2ang;
-		info.rowskip = kStride;
-		info.m_constraintError = error;
-		info.cfm = cfm;
-		info.m_lowerLimit = lower;
-		info.m_upperLimit = upper;
-		info.m_numIterations = 10;
-		info.m_damping = 1;
-	}
-};
 
 enum class JointType
 {
@@ -226,6 +189,9 @@ private:
 void benchJoint(benchmark::State& state, JointType type, JointConfig config, double angle)
 {
 	JointFixture fixture(type, config, angle);
+	// Rows as the sequential-impulse solver hands them to getInfo2 (zeroed Jacobians and errors, bounds ±∞, rowskip 16,
+	// 60 Hz, erp 0.2). Not re-zeroed between calls: every call of one joint writes the same entries, and zeroing is
+	// the solver's cost (measured by the step cases), not the joint's.
 	ScratchRows scratch;
 	// The configuration is what it says. Stock and quaternion: 5 rows, one more for an active limit or a motor (stock
 	// shares one row between them). 6dof2 reports two limit rows whenever a limit is set (its bounds decide which

@@ -5,7 +5,6 @@
 #include "BulletDynamics/MLCPSolvers/btMLCPSolver.h"
 
 #include <cmath>
-#include <cstring>
 
 namespace qh_test
 {
@@ -85,34 +84,6 @@ double misalignmentDeg(const btRigidBody& a, const btTransform& frameA, const bt
 	const btVector3 zb = b.getCenterOfMassTransform().getBasis() * frameB.getBasis().getColumn(2);
 	// atan2(|za × zb|, za·zb): accurate for small angles too (acos of a dot product near 1 is not)
 	return std::atan2(double(za.cross(zb).length()), double(za.dot(zb))) * kDeg;
-}
-
-ScratchRows::ScratchRows(btScalar fps, btScalar erp)
-{
-	std::memset(j1lin, 0, sizeof(j1lin));
-	std::memset(j1ang, 0, sizeof(j1ang));
-	std::memset(j2lin, 0, sizeof(j2lin));
-	std::memset(j2ang, 0, sizeof(j2ang));
-	std::memset(error, 0, sizeof(error));
-	std::memset(cfm, 0, sizeof(cfm));
-	for (int i = 0; i < kRows * kStride; ++i)
-	{
-		lower[i] = -SIMD_INFINITY;
-		upper[i] = SIMD_INFINITY;
-	}
-	info.fps = fps;
-	info.erp = erp;
-	info.m_J1linearAxis = j1lin;
-	info.m_J1angularAxis = j1ang;
-	info.m_J2linearAxis = j2lin;
-	info.m_J2angularAxis = j2ang;
-	info.rowskip = kStride;
-	info.m_constraintError = error;
-	info.cfm = cfm;
-	info.m_lowerLimit = lower;
-	info.m_upperLimit = upper;
-	info.m_numIterations = 10;
-	info.m_damping = 1;
 }
 
 btQuaternion expRotation(const btVector3& w)

@@ -1,7 +1,10 @@
 // Shared test fixture: a small Bullet world that owns its bodies and constraints, steps at a fixed rate, and measures
-// what the tests compare (joint separation in m, axis misalignment in degrees) for any hinge-like joint.
+// what the tests compare (joint separation in m, axis misalignment in degrees) for any hinge-like joint; with it the
+// scratch solver rows (ScratchRows.h). Both are in the QuatHingeTestSupport library (support/CMakeLists.txt).
 #ifndef QUATHINGE_TESTS_WORLD_H
 #define QUATHINGE_TESTS_WORLD_H
+
+#include "support/ScratchRows.h"
 
 #include <btBulletDynamicsCommon.h>
 
@@ -60,24 +63,6 @@ private:
 double separation(const btRigidBody& a, const btTransform& frameA, const btRigidBody& b, const btTransform& frameB);
 double misalignmentDeg(const btRigidBody& a, const btTransform& frameA, const btRigidBody& b,
 					   const btTransform& frameB);
-
-/// Scratch rows for calling getInfo1/getInfo2 by hand (rowskip kStride, zeroed, bounds ±∞ as the solver sets them).
-struct ScratchRows
-{
-	static constexpr int kRows = 8;
-	static constexpr int kStride = 16;
-	btScalar j1lin[kRows * kStride], j1ang[kRows * kStride], j2lin[kRows * kStride], j2ang[kRows * kStride];
-	btScalar error[kRows * kStride], cfm[kRows * kStride], lower[kRows * kStride], upper[kRows * kStride];
-	btTypedConstraint::btConstraintInfo2 info;
-	explicit ScratchRows(btScalar fps = 60, btScalar erp = btScalar(0.2));
-	btVector3 linA(int r) const { return btVector3(j1lin[r * kStride], j1lin[r * kStride + 1], j1lin[r * kStride + 2]); }
-	btVector3 angA(int r) const { return btVector3(j1ang[r * kStride], j1ang[r * kStride + 1], j1ang[r * kStride + 2]); }
-	btVector3 linB(int r) const { return btVector3(j2lin[r * kStride], j2lin[r * kStride + 1], j2lin[r * kStride + 2]); }
-	btVector3 angB(int r) const { return btVector3(j2ang[r * kStride], j2ang[r * kStride + 1], j2ang[r * kStride + 2]); }
-	btScalar err(int r) const { return error[r * kStride]; }
-	btScalar lo(int r) const { return lower[r * kStride]; }
-	btScalar hi(int r) const { return upper[r * kStride]; }
-};
 
 /// Rotation by the rotation vector w (axis · angle).
 btQuaternion expRotation(const btVector3& w);
