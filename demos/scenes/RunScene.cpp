@@ -58,6 +58,17 @@ struct PeriodMeter
 };
 }  // namespace
 
+JointError measureJointError(const MeasuredJoint& j)
+{
+	const btVector3 pa = j.a->getCenterOfMassTransform() * j.frameA.getOrigin();
+	const btVector3 pb = j.b->getCenterOfMassTransform() * j.frameB.getOrigin();
+	const btVector3 za = j.a->getCenterOfMassTransform().getBasis() * j.frameA.getBasis().getColumn(2);
+	const btVector3 zb = j.b->getCenterOfMassTransform().getBasis() * j.frameB.getBasis().getColumn(2);
+	// atan2(|za × zb|, za·zb): accurate near 0 (btVector3::angle's acos of a float dot product bottoms out at
+	// √(2ε) = 4.9e-4 rad = 0.028°, which read as a misalignment floor)
+	return {double((pb - pa).length()), std::atan2(double(za.cross(zb).length()), double(za.dot(zb))) * 180.0 / M_PI};
+}
+
 Metrics runScene(const SceneSpec& scene, Kind kind, const RunSettings& settings)
 {
 	Metrics m;
@@ -174,14 +185,8 @@ Metrics runScene(const SceneSpec& scene, Kind kind, const RunSettings& settings)
 				const double past = std::max({j.lower - j.theta, j.theta - j.upper, 0.0});
 				m.limitViolation = std::max(m.limitViolation, past);
 			}
-			const btVector3 pa = j.a->getCenterOfMassTransform() * j.frameA.getOrigin();
-			const btVector3 pb = j.b->getCenterOfMassTransform() * j.frameB.getOrigin();
-			const btVector3 za = j.a->getCenterOfMassTransform().getBasis() * j.frameA.getBasis().getColumn(2);
-			const btVector3 zb = j.b->getCenterOfMassTransform().getBasis() * j.frameB.getBasis().getColumn(2);
-			const double sep = double((pb - pa).length());
-			// atan2(|za × zb|, za·zb): accurate near 0 (btVector3::angle's acos of a float dot product bottoms out at
-			// √(2ε) = 4.9e-4 rad = 0.028°, which read as a misalignment floor)
-			const double mis = std::atan2(double(za.cross(zb).length()), double(za.dot(zb))) * 180.0 / M_PI;
+			const JointError error = measureJointError(j);
+			const double sep = error.separation, mis = error.misalignmentDeg;
 			sumSep2 += sep * sep;
 			sumMis2 += mis * mis;
 			++samples;

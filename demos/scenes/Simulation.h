@@ -35,6 +35,15 @@ struct MeasuredJoint
 	bool thetaValid = false;
 };
 
+/// A joint's error now: the distance between its pivots (m) and the angle between its axes (deg), measured from the
+/// bodies and the scene's frames (not from the kind's own rows). The one place the demos compute it (RunScene.cpp).
+struct JointError
+{
+	double separation;
+	double misalignmentDeg;
+};
+JointError measureJointError(const MeasuredJoint& j);
+
 /// Updates j.theta from the joint's frames (Simulation.cpp): at the start, and every step for runScene's limit figures.
 void trackTheta(MeasuredJoint& j);
 

@@ -25,11 +25,9 @@ void measure(Pane& p)
 	double sep = 0, mis = 0;
 	for (const MeasuredJoint& j : p.sim->joints)
 	{
-		const btTransform fa = j.a->getCenterOfMassTransform() * j.frameA;
-		const btTransform fb = j.b->getCenterOfMassTransform() * j.frameB;
-		sep = std::max(sep, double((fb.getOrigin() - fa.getOrigin()).length()));
-		const btVector3 za = fa.getBasis().getColumn(2), zb = fb.getBasis().getColumn(2);
-		mis = std::max(mis, std::atan2(double(za.cross(zb).length()), double(za.dot(zb))) * 180.0 / M_PI);
+		const JointError error = measureJointError(j);
+		sep = std::max(sep, error.separation);
+		mis = std::max(mis, error.misalignmentDeg);
 	}
 	p.maxSeparation = std::max(p.maxSeparation, sep);
 	p.maxMisalignmentDeg = std::max(p.maxMisalignmentDeg, mis);
