@@ -571,19 +571,27 @@ TEST(CallerPatterns, GazeboSetUpperLimitKeepsTheSdfLowerEnd)
 			most = std::max(most, g.position());
 		});
 		run.extra.push_back(std::max(most, g.position()));
+		double least = 1e9;  // then pushed the other way for 3 s
+		record(run, g.w, *g.hinge, 180, [&](int) {
+			g.setForce(btScalar(-0.5));
+			least = std::min(least, double(g.hinge->getHingeAngle()));
+		});
+		if constexpr (isQuat<Hinge>()) least = double(g.hinge->getMultiTurnAngle());
+		run.extra.push_back(least - double(g.angleOffset));
 		return run;
 	});
 	// Deliberately different (README, "limits"): stock's getLowerLimit() is −1e16 wrapped into (−π, π], so the
 	// limit it is handed back has an arbitrary lower end; the quaternion hinge hands back −∞ (no stop on that side)
 	// and stops the joint at the upper end the caller gave: position (getHingeAngle − angleOffset) at most 0.5 rad
-	// + 1e-3 rad.
+	// + 1e-3 rad; pushed back, it has no lower stop (it turns past −π; stock stops at its arbitrary lower end).
 	std::printf("[ figures  ] Gazebo SetUpperLimit(0.5): stock lower end %.4f rad (limit %s), reached %.4f rad; "
-				"quaternion lower end %g (limit %s), reached %.4f rad\n",
+				"quaternion lower end %g (limit %s), reached %.4f rad; pushed back: stock least %.4f rad, quaternion %.4f rad\n",
 				r.stock.extra[0], r.stock.extra[1] != 0 ? "on" : "off", r.stock.extra[2], r.quat.extra[0],
-				r.quat.extra[1] != 0 ? "on" : "off", r.quat.extra[2]);
+				r.quat.extra[1] != 0 ? "on" : "off", r.quat.extra[2], r.stock.extra[3], r.quat.extra[3]);
 	EXPECT_EQ(r.quat.extra[0], -std::numeric_limits<double>::infinity());
 	EXPECT_LE(r.quat.extra[2], 0.5 + 1e-3);
 	EXPECT_GT(r.quat.extra[2], 0.5 - 0.02);  // and it got there
+	EXPECT_LT(r.quat.extra[3], -kPi);
 }
 
 TEST(CallerPatterns, SxrFileLoaderTurnsTheFramesInPlace)
