@@ -18,9 +18,9 @@
 #ifndef QUATHINGE_STABILIZER_BLOCK_LDLT_H
 #define QUATHINGE_STABILIZER_BLOCK_LDLT_H
 
+#include "BulletAllocator.h"
 #include "BlockMatrix.h"
 
-#include <vector>
 
 namespace quathinge
 {
@@ -48,10 +48,10 @@ private:
 		int target;  // lower block (i, j), or −1 − i for the diagonal block i (i == j)
 	};
 	const BlockPattern* m_pattern = nullptr;
-	std::vector<int> m_updateStart;  // updates of column k: [m_updateStart[k], m_updateStart[k + 1])
-	std::vector<Update> m_updates;
-	std::vector<Block<R>> m_w;                // V_ik P_k⁻¹ of the column being eliminated (by position in the column)
-	std::vector<BlockVector<R>> m_invPivot;  // P_k⁻¹ per block row (0 on the block's storage rows)
+	Array<int> m_updateStart;  // updates of column k: [m_updateStart[k], m_updateStart[k + 1])
+	Array<Update> m_updates;
+	Array<Block<R>> m_w;                // V_ik P_k⁻¹ of the column being eliminated (by position in the column)
+	Array<BlockVector<R>> m_invPivot;  // P_k⁻¹ per block row (0 on the block's storage rows)
 };
 
 extern template class BlockLDLT<5>;

@@ -15,9 +15,9 @@
 #ifndef QUATHINGE_STABILIZER_BLOCK_MATRIX_H
 #define QUATHINGE_STABILIZER_BLOCK_MATRIX_H
 
+#include "BulletAllocator.h"
 #include <Eigen/Core>
 
-#include <vector>
 
 namespace quathinge
 {
@@ -61,11 +61,11 @@ decltype(auto) logicalRows(const M& m)
 /// The block structure of a symmetric matrix: diagonal blocks and the lower blocks present, column by column.
 struct BlockPattern
 {
-	std::vector<int> size;      ///< a joint's own rows (the general sparse path's block sizes)
-	std::vector<int> offset;    ///< first scalar row of block row i in the compact (unpadded) numbering
+	Array<int> size;      ///< a joint's own rows (the general sparse path's block sizes)
+	Array<int> offset;    ///< first scalar row of block row i in the compact (unpadded) numbering
 	int rows = 0;               ///< compact scalar rows in all
-	std::vector<int> colStart;  ///< lower blocks of column k: [colStart[k], colStart[k + 1]), block rows ascending
-	std::vector<int> rowOf;     ///< block row of each lower block
+	Array<int> colStart;  ///< lower blocks of column k: [colStart[k], colStart[k + 1]), block rows ascending
+	Array<int> rowOf;     ///< block row of each lower block
 
 	int blockRows() const { return int(size.size()); }
 	int lowerBlocks() const { return int(rowOf.size()); }
@@ -77,8 +77,8 @@ struct BlockPattern
 template <int R>
 struct BlockMatrix
 {
-	std::vector<Block<R>> diag;   ///< diagonal blocks (symmetric, stored in full)
-	std::vector<Block<R>> lower;  ///< lower blocks, in pattern order
+	Array<Block<R>> diag;   ///< diagonal blocks (symmetric, stored in full)
+	Array<Block<R>> lower;  ///< lower blocks, in pattern order
 	void resize(const BlockPattern& pattern)
 	{
 		diag.resize(pattern.blockRows());

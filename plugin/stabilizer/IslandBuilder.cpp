@@ -1,4 +1,5 @@
 // Discovery, islands and the tree numbering of the stabilizer (see StabilizerIsland.h).
+#include "BulletAllocator.h"
 #include "StabilizerIsland.h"
 
 #include "quathinge/btQuaternionHingeConstraint.h"
@@ -20,7 +21,7 @@ bool isMovable(const btRigidBody& body)
 		   (body.getInvMass() > 0 || !body.getInvInertiaDiagLocal().isZero());
 }
 
-void scanWorld(btDynamicsWorld& world, bool projectLimits, std::vector<SignatureEntry>& out)
+void scanWorld(btDynamicsWorld& world, bool projectLimits, Array<SignatureEntry>& out)
 {
 	out.clear();
 	const int n = world.getNumConstraints();
@@ -48,7 +49,7 @@ void scanWorld(btDynamicsWorld& world, bool projectLimits, std::vector<Signature
 
 namespace
 {
-int findRoot(std::vector<int>& parent, int x)
+int findRoot(Array<int>& parent, int x)
 {
 	while (parent[x] != x)
 	{
@@ -60,25 +61,25 @@ int findRoot(std::vector<int>& parent, int x)
 
 // Joint numbering along a depth-first tree of the bodies, leaves first (StabilizerIsland.h). joints: island joints
 // with island body indices (−1 fixed). Returns the joints' order.
-std::vector<int> treeOrder(int numBodies, const std::vector<JointSlot>& joints)
+Array<int> treeOrder(int numBodies, const Array<JointSlot>& joints)
 {
-	std::vector<std::vector<int>> incident(numBodies);
+	Array<Array<int>> incident(numBodies);
 	for (int j = 0; j < int(joints.size()); ++j)
 		for (int s = 0; s < 2; ++s)
 			if (joints[j].body[s] >= 0) incident[joints[j].body[s]].push_back(j);
 
 	auto other = [&](int j, int b) { return joints[j].body[0] == b ? joints[j].body[1] : joints[j].body[0]; };
-	std::vector<int> order;
+	Array<int> order;
 	order.reserve(joints.size());
-	std::vector<char> emitted(joints.size(), 0);
-	std::vector<char> visited(numBodies, 0);
-	std::vector<int> parentBody(numBodies, -1);
+	Array<char> emitted(joints.size(), 0);
+	Array<char> visited(numBodies, 0);
+	Array<int> parentBody(numBodies, -1);
 	struct Frame
 	{
 		int body;
 		size_t next;
 	};
-	std::vector<Frame> stack;
+	Array<Frame> stack;
 	for (int root = 0; root < numBodies; ++root)
 	{
 		if (visited[root]) continue;
@@ -130,24 +131,24 @@ void buildPattern(Island& island)
 		p.rows += p.size[j];
 	}
 	// Pairs of joints on a common movable body: (i > j, body side of i, of j).
-	std::vector<std::vector<std::pair<int, int>>> incident(island.bodies.size());  // (joint, side)
+	Array<Array<std::pair<int, int>>> incident(island.bodies.size());  // (joint, side)
 	for (int j = 0; j < n; ++j)
 		for (int s = 0; s < 2; ++s)
 			if (island.joints[j].body[s] >= 0) incident[island.joints[j].body[s]].push_back({j, s});
-	std::vector<Coupling> couplings;
+	Array<Coupling> couplings;
 	for (const auto& list : incident)
 		for (size_t a = 0; a < list.size(); ++a)
 			for (size_t b = 0; b < list.size(); ++b)
 				if (list[a].first > list[b].first)
 					couplings.push_back(Coupling{-1, list[a].first, list[a].second, list[b].first, list[b].second});
 	// Lower blocks per column, rows ascending, each once.
-	std::vector<std::vector<int>> columns(n);
+	Array<Array<int>> columns(n);
 	for (const Coupling& c : couplings) columns[c.j].push_back(c.i);
 	p.colStart.assign(n + 1, 0);
 	p.rowOf.clear();
 	for (int k = 0; k < n; ++k)
 	{
-		std::vector<int>& rows = columns[k];
+		Array<int>& rows = columns[k];
 		std::sort(rows.begin(), rows.end());
 		rows.erase(std::unique(rows.begin(), rows.end()), rows.end());
 		p.colStart[k] = int(p.rowOf.size());
@@ -179,13 +180,13 @@ bool prepareBlocks(BlockIsland<R>& island)
 }
 }  // namespace
 
-void buildIslands(const std::vector<SignatureEntry>& scan, bool forceSparse,
-				  std::vector<std::unique_ptr<Island>>& islands)
+void buildIslands(const Array<SignatureEntry>& scan, bool forceSparse,
+				  Array<std::unique_ptr<Island>>& islands)
 {
 	islands.clear();
 	// Movable bodies, numbered in scan order.
 	std::unordered_map<const btRigidBody*, int> bodyIndex;
-	std::vector<btRigidBody*> bodies;
+	Array<btRigidBody*> bodies;
 	const unsigned movableFlag[2] = {SignatureEntry::kMovableA, SignatureEntry::kMovableB};
 	for (const SignatureEntry& e : scan)
 		for (int s = 0; s < 2; ++s)
@@ -195,7 +196,7 @@ void buildIslands(const std::vector<SignatureEntry>& scan, bool forceSparse,
 		return (e.flags & movableFlag[s]) ? bodyIndex[e.body[s]] : -1;
 	};
 
-	std::vector<int> parent(bodies.size());
+	Array<int> parent(bodies.size());
 	for (size_t i = 0; i < parent.size(); ++i) parent[i] = int(i);
 	for (const SignatureEntry& e : scan)
 	{
@@ -204,7 +205,7 @@ void buildIslands(const std::vector<SignatureEntry>& scan, bool forceSparse,
 	}
 
 	// The block size per root: 6 rows if some joint of the island has a limit slot, else 5.
-	std::vector<char> hasLimitSlot(bodies.size(), 0);
+	Array<char> hasLimitSlot(bodies.size(), 0);
 	for (const SignatureEntry& e : scan)
 	{
 		const int a = indexOf(e, 0), b = indexOf(e, 1);
@@ -213,7 +214,7 @@ void buildIslands(const std::vector<SignatureEntry>& scan, bool forceSparse,
 
 	// Island per root; bodies and joints in scan order.
 	std::unordered_map<int, int> islandOf;
-	std::vector<int> localBody(bodies.size(), -1);
+	Array<int> localBody(bodies.size(), -1);
 	for (size_t i = 0; i < bodies.size(); ++i)
 	{
 		const int root = findRoot(parent, int(i));
@@ -259,8 +260,8 @@ void buildIslands(const std::vector<SignatureEntry>& scan, bool forceSparse,
 	for (auto& islandPtr : islands)
 	{
 		Island& island = *islandPtr;
-		const std::vector<int> order = treeOrder(int(island.bodies.size()), island.joints);
-		std::vector<JointSlot> ordered;
+		const Array<int> order = treeOrder(int(island.bodies.size()), island.joints);
+		Array<JointSlot> ordered;
 		ordered.reserve(order.size());
 		for (int j : order) ordered.push_back(island.joints[j]);
 		island.joints.swap(ordered);

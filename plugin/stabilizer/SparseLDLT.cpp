@@ -1,4 +1,5 @@
 // The general sparse LDLᵀ (see SparseLDLT.h).
+#include "BulletAllocator.h"
 #include "SparseLDLT.h"
 
 #include <Eigen/OrderingMethods>
@@ -25,7 +26,7 @@ void SparseLDLT::analyze(const BlockPattern& pattern)
 	const int n = pattern.blockRows();
 	// Column c of block column k holds the diagonal block's rows c..size−1, then every lower block's rows, in block
 	// row order: the rows of one block are consecutive, so each block column starts at one value index.
-	std::vector<int> columnCount(pattern.rows, 0);
+	Array<int> columnCount(pattern.rows, 0);
 	for (int k = 0; k < n; ++k)
 		for (int c = 0; c < pattern.size[k]; ++c)
 		{

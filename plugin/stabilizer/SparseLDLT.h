@@ -9,10 +9,10 @@
 #ifndef QUATHINGE_STABILIZER_SPARSE_LDLT_H
 #define QUATHINGE_STABILIZER_SPARSE_LDLT_H
 
+#include "BulletAllocator.h"
 #include "BlockMatrix.h"
 
 #include <memory>
-#include <vector>
 
 namespace quathinge
 {
@@ -21,6 +21,7 @@ namespace stabilizer
 class SparseLDLT
 {
 public:
+	BT_DECLARE_ALIGNED_ALLOCATOR();
 	SparseLDLT();
 	~SparseLDLT();
 	SparseLDLT(const SparseLDLT&) = delete;
@@ -40,8 +41,8 @@ private:
 	struct Eigen3;
 	std::unique_ptr<Eigen3> m_eigen;
 	const BlockPattern* m_pattern = nullptr;
-	std::vector<int> m_diagStart;   // value index of entry (offset_k + c, offset_k + c), per block row k and column c
-	std::vector<int> m_lowerStart;  // value index of the first row of lower block s in each of its columns (stride
+	Array<int> m_diagStart;   // value index of entry (offset_k + c, offset_k + c), per block row k and column c
+	Array<int> m_lowerStart;  // value index of the first row of lower block s in each of its columns (stride
 	                                // kMaxBlockRows)
 };
 

@@ -16,6 +16,7 @@
 #ifndef QUATHINGE_STABILIZER_ISLAND_H
 #define QUATHINGE_STABILIZER_ISLAND_H
 
+#include "BulletAllocator.h"
 #include "BlockLDLT.h"
 #include "BlockMatrix.h"
 #include "SparseLDLT.h"
@@ -26,7 +27,6 @@
 #include <Eigen/Core>
 
 #include <memory>
-#include <vector>
 
 class btDynamicsWorld;
 class btRigidBody;
@@ -60,7 +60,7 @@ struct SignatureEntry
 bool isMovable(const btRigidBody& body);
 
 /// Appends the world's enabled quaternion hinges with a movable body, in constraint order, to out (cleared first).
-void scanWorld(btDynamicsWorld& world, bool projectLimits, std::vector<SignatureEntry>& out);
+void scanWorld(btDynamicsWorld& world, bool projectLimits, Array<SignatureEntry>& out);
 
 struct IslandBody
 {
@@ -121,13 +121,14 @@ struct Coupling
 /// What every island holds; the block-sized data is in BlockIsland<blockRows>.
 struct Island
 {
+	BT_DECLARE_ALIGNED_ALLOCATOR();  // allocated through Bullet's allocator (BulletAllocator.h)
 	explicit Island(int rows) : blockRows(rows) {}
 	virtual ~Island() = default;
 	const int blockRows;  // R: 6 if some joint has a limit slot, else 5
-	std::vector<IslandBody> bodies;
-	std::vector<JointSlot> joints;  // in elimination order
+	Array<IslandBody> bodies;
+	Array<JointSlot> joints;  // in elimination order
 	BlockPattern pattern;
-	std::vector<Coupling> couplings;
+	Array<Coupling> couplings;
 	bool treeOrdered = false;  // BlockLDLT accepted the numbering (no fill)
 	bool useSparse = false;    // solved by SparseLDLT
 	std::unique_ptr<SparseLDLT> sparse;
@@ -146,15 +147,15 @@ template <int R>
 struct BlockIsland : Island
 {
 	BlockIsland() : Island(R) {}
-	std::vector<JointBlock<R>> blocks;  // per joint, as joints
+	Array<JointBlock<R>> blocks;  // per joint, as joints
 	BlockMatrix<R> k;
 	BlockLDLT<R> block;
-	std::vector<BlockVector<R>> lambda;  // right-hand side, then λ, per joint
+	Array<BlockVector<R>> lambda;  // right-hand side, then λ, per joint
 };
 
 /// Builds the islands of a scan. forceSparse: every island uses SparseLDLT.
-void buildIslands(const std::vector<SignatureEntry>& scan, bool forceSparse,
-				  std::vector<std::unique_ptr<Island>>& islands);
+void buildIslands(const Array<SignatureEntry>& scan, bool forceSparse,
+				  Array<std::unique_ptr<Island>>& islands);
 
 /// Step settings and counters shared by the projection (a subset of btQuaternionHingeStabilizerSettings/Stats).
 struct ProjectionSettings

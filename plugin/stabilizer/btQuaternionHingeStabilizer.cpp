@@ -1,5 +1,6 @@
 // btQuaternionHingeStabilizer: the btActionInterface around the island projection (public header for the design;
 // StabilizerIsland.h for discovery and numbering; IslandProjection.cpp for Q13 and Q14).
+#include "BulletAllocator.h"
 #include "quathinge/btQuaternionHingeStabilizer.h"
 #include "quathinge/btQuaternionHingeErrors.h"
 
@@ -19,9 +20,10 @@ using namespace quathinge::stabilizer;
 
 struct btQuaternionHingeStabilizer::Impl
 {
-	std::vector<SignatureEntry> signature;  // the scan the islands were built from
-	std::vector<SignatureEntry> scan;       // this step's scan (kept to avoid allocating)
-	std::vector<std::unique_ptr<Island>> islands;
+	BT_DECLARE_ALIGNED_ALLOCATOR();
+	Array<SignatureEntry> signature;  // the scan the islands were built from
+	Array<SignatureEntry> scan;       // this step's scan (kept to avoid allocating)
+	Array<std::unique_ptr<Island>> islands;
 	bool built = false;
 };
 
