@@ -223,6 +223,23 @@ TEST(ParityWithStock, ConversionKeepsEverySetting)
 	EXPECT_EQ(q.getOverrideNumSolverIterations(), 17);
 }
 
+TEST(ParityWithStock, ConversionOfAWholeTurnLimitIsFree)
+{
+	// A stock limit of one or two whole turns (its ends wrap to the same angle; stock never stops there) converts to
+	// a limit of one turn, which never acts either, and keeps hasLimit() true.
+	btBoxShape shape(btVector3(1, 1, 1));
+	btRigidBody a(1, nullptr, &shape, btVector3(1, 1, 1));
+	for (const double range : {M_PI, 2 * M_PI})
+	{
+		btHingeConstraint stock(a, btVector3(0, 0, 0), btVector3(0, 0, 1));
+		stock.setLimit(btScalar(-range), btScalar(range));
+		ASSERT_TRUE(stock.hasLimit());
+		btQuaternionHingeConstraint q(stock);
+		EXPECT_TRUE(q.hasLimit()) << range;
+		EXPECT_FALSE(q.getSettings().hasLimit) << range;  // acts nowhere
+	}
+}
+
 TEST(ParityWithStock, ReplaceHingeConstraintsSwapsEveryStockHinge)
 {
 	// A world with three stock hinges and one other constraint: three are replaced, the other stays, the count is 3.

@@ -102,6 +102,39 @@ TEST(StockMeaning, LowAboveHighIsAFreeJoint)
 	}
 }
 
+TEST(StockMeaning, OneTurnRangeIsAFreeJointThatReportsALimit)
+{
+	// setLimit(−π, π) (Godot's HingeJoint with its limit off, and a common "no limit"): stock never stops there (it wraps
+	// the angle into a turn) and says hasLimit(); so does the quaternion hinge. Also with ends a turn apart elsewhere
+	// (0, 2π) and from degrees in float. A range wider than a turn acts (README: multi-turn limits).
+	const double cases[][2] = {{-M_PI, M_PI}, {0, 2 * M_PI}, {double(float(-180 * M_PI / 180)), double(float(180 * M_PI / 180))}};
+	for (const auto& c : cases)
+	{
+		Stock s;
+		Quat q;
+		s.hinge->setLimit(btScalar(c[0]), btScalar(c[1]));
+		q.hinge->setLimit(btScalar(c[0]), btScalar(c[1]));
+		EXPECT_TRUE(s.hinge->hasLimit());
+		EXPECT_TRUE(q.hinge->hasLimit()) << c[0] << " " << c[1];
+		EXPECT_FALSE(q.hinge->getSettings().hasLimit);
+		(void)q.hinge->getMultiTurnAngle();  // tracked from here on
+		for (int i = 0; i < 90; ++i)
+		{
+			s.spin(5, 1);
+			q.spin(5, 1);
+			EXPECT_EQ(q.hinge->getSolveLimit(), s.hinge->getSolveLimit());
+		}
+		// 90 steps at 5 rad/s: 7.5 rad, more than a turn, same pose
+		EXPECT_NEAR(wrapped(q.angleAboutZ() - s.angleAboutZ()), 0, kAngleTol) << c[0] << " " << c[1];
+		EXPECT_NEAR(std::fabs(double(q.hinge->getMultiTurnAngle())), 7.5, 0.01);
+	}
+	Quat wider;
+	wider.hinge->setLimit(btScalar(-M_PI - 0.1), btScalar(M_PI + 0.1));
+	EXPECT_TRUE(wider.hinge->getSettings().hasLimit);
+	wider.spin(5, 90);
+	EXPECT_LT(std::fabs(double(wider.hinge->getMultiTurnAngle())), M_PI + 0.1 + 1e-3);  // rad: the stop holds
+}
+
 TEST(StockMeaning, EqualEndsLockTheHingeAndReportNoLimit)
 {
 	// setLimit(0, 0): stock's half range 0 still acts (a lock) while hasLimit() says false.

@@ -31,7 +31,9 @@ btQuaternionHingeConstraint::btQuaternionHingeConstraint(const btHingeConstraint
 		// Stock keeps a centre and a half range and reports both ends wrapped into (−π, π]; a range across ±π then
 		// comes back with high < low and is unwrapped here.
 		btScalar low = stock.getLowerLimit(), high = stock.getUpperLimit();
-		if (high < low) high += SIMD_2_PI;
+		// (ends that wrap to the same angle with a range: a whole number of turns, which never acts in stock; one turn
+		// never acts here either)
+		if (high <= low) high += SIMD_2_PI;
 		setLimit(low, high, stock.getLimitSoftness(), stock.getLimitBiasFactor(), stock.getLimitRelaxationFactor());
 	}
 	else if (stock.getLowerLimit() == stock.getUpperLimit())

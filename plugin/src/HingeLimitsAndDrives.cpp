@@ -141,7 +141,7 @@ void btQuaternionHingeConstraint::setLimit(btScalar low, btScalar high, btScalar
 	if (!check::finite(fn, "softness", softness) || !check::limitFactor(fn, "biasFactor", biasFactor) ||
 		!check::limitFactor(fn, "relaxationFactor", relaxationFactor))
 		return;
-	const bool acts = low <= high;
+	bool acts = low <= high;
 	if (acts)
 	{
 		// A side at or beyond ±BT_LARGE_FLOAT (±SIMD_INFINITY, ±inf) or beyond ±1e6 rad (SDF's ±1e16: 160 000 turns,
@@ -153,6 +153,13 @@ void btQuaternionHingeConstraint::setLimit(btScalar low, btScalar high, btScalar
 		if (high > check::kMaxAngle) high = std::numeric_limits<btScalar>::infinity();
 		else if (!check::angle(fn, "high", high)) return;
 	}
+	// A range of exactly one turn (high − low = 2π within kOneTurnTolerance: setLimit(−π, π), Godot's HingeJoint with
+	// its limit off) never acts, as stock's never does (it wraps the angle into a turn): the common way to say "no
+	// limit". Wider ranges act on the multi-turn angle (README, difference table).
+	const bool oneTurn = acts && std::isfinite(low) && std::isfinite(high) &&
+						 btFabs((high - low) - SIMD_2_PI) <= check::kOneTurnTolerance;
+	m_limitIsOneTurn = oneTurn;
+	acts = acts && !oneTurn;
 	m_settings.hasLimit = acts;
 	m_settings.lowerLimit = low;
 	m_settings.upperLimit = high;
@@ -166,6 +173,7 @@ void btQuaternionHingeConstraint::setLimit(btScalar low, btScalar high, btScalar
 void btQuaternionHingeConstraint::removeLimit()
 {
 	m_settings.hasLimit = false;
+	m_limitIsOneTurn = false;
 	m_limitSign = 0;
 }
 

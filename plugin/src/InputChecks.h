@@ -47,6 +47,9 @@ const btScalar kMaxPivotDistance = btScalar(1e6);
 /// The largest angle a limit, target or rest angle may have: 1e6 rad (160 000 turns). Beyond it a spring or servo
 /// asks for velocities outside float range (the fuzzer found a rest angle of 1e26 rad throwing a body to 1e27 rad/s).
 const btScalar kMaxAngle = btScalar(1e6);
+/// How far a limit's range may be from one turn (rad) to mean one turn (setLimit(−π, π): a free joint, as stock): a few
+/// float ulps of 2π, enough for ends converted from degrees.
+const btScalar kOneTurnTolerance = btScalar(4e-6);
 /// An angle (rad): finite and |angle| ≤ kMaxAngle.
 bool angle(const char* fn, const char* param, btScalar value);
 /// The largest magnitude of a limit's bias or relaxation factor: 1e3. Stock stores any number and documents both as

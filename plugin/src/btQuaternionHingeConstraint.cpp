@@ -287,6 +287,7 @@ void btQuaternionHingeConstraint::initFrames(const btTransform& frameA, const bt
 void btQuaternionHingeConstraint::initFromSettings()
 {
 	m_poseCached = false;
+	m_limitIsOneTurn = false;
 	m_checkedFrameA = m_settings.frameInA;
 	m_checkedFrameB = m_settings.frameInB;
 	m_multiTurnAngle = 0;

@@ -89,7 +89,8 @@ struct btQuaternionHingeSettings
 	bool useFrameOffset = true;
 
 	/// Limit on the multi-turn angle (rad). hasLimit: the limit acts (then lowerLimit ≤ upperLimit; the range may be
-	/// wider than 2π and may straddle ±π; lowerLimit == upperLimit locks the hinge). Without it the values are kept as
+	/// wider than 2π and may straddle ±π; lowerLimit == upperLimit locks the hinge; a range of exactly 2π never acts,
+	/// as stock's: setLimit leaves hasLimit false for it). Without it the values are kept as
 	/// given (stock's never-limited hinge reports 1 and −1, and so do these defaults).
 	bool hasLimit = false;
 	btScalar lowerLimit = 1;
@@ -232,7 +233,8 @@ public:
 	btScalar getMaxMotorImpulse() const { return m_settings.maxMotorImpulse; }
 
 	/// Limit on the multi-turn angle (radians; may straddle ±π, may be wider than 2π). As stock: low > high frees the
-	/// joint (the values are kept and reported), low == high locks it. An end beyond ±1e6 rad or at ±BT_LARGE_FLOAT
+	/// joint (the values are kept and reported), low == high locks it, and a range of exactly one turn (high − low =
+	/// 2π, e.g. setLimit(−π, π)) never acts: the common way to say "no limit". An end beyond ±1e6 rad or at ±BT_LARGE_FLOAT
 	/// means no stop on that side. softness: any finite value; biasFactor, relaxationFactor: any value within ±1e3
 	/// (refused beyond: they scale the limit row's error), see btQuaternionHingeSettings. If the current multi-turn angle is outside [low, high], it is moved by whole turns
 	/// to the branch nearest the range (so a stock-style range across ±π means what it means for btHingeConstraint).
@@ -240,9 +242,13 @@ public:
 				  btScalar relaxationFactor = btScalar(1.0));
 	/// Frees the joint (as setLimit(1, -1) would, but keeping the ends).
 	void removeLimit();
-	/// Stock's answer: a limit with a range (high > low). A lock (low == high) acts but reports false, as stock's;
-	/// getSettings().hasLimit says whether any limit acts.
-	bool hasLimit() const { return m_settings.hasLimit && m_settings.upperLimit > m_settings.lowerLimit; }
+	/// Stock's answer: a limit with a range (high > low). A lock (low == high) acts but reports false, and a range of
+	/// exactly one turn (setLimit(−π, π)) reports true but never acts, as stock's; getSettings().hasLimit says whether
+	/// any limit acts.
+	bool hasLimit() const
+	{
+		return (m_settings.hasLimit || m_limitIsOneTurn) && m_settings.upperLimit > m_settings.lowerLimit;
+	}
 	btScalar getLowerLimit() const { return m_settings.lowerLimit; }
 	btScalar getUpperLimit() const { return m_settings.upperLimit; }
 	btScalar getLimitSoftness() const { return m_settings.limitSoftness; }
@@ -349,6 +355,7 @@ private:
 	btQuaternionHingeFault m_fault;
 	Pose m_pose;        // computed in getInfo1 when an angle was needed, reused by the getInfo2 that follows
 	bool m_poseCached;
+	bool m_limitIsOneTurn;  // the last setLimit gave a range of exactly one turn: reported by hasLimit(), never acts
 };
 
 /// Replaces every btHingeConstraint in `world` by its equivalent btQuaternionHingeConstraint (same place in the
