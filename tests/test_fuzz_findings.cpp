@@ -253,7 +253,7 @@ TEST(FuzzFindings, LimitFactorsBeyondTheirRangeAreRefused)
 	EXPECT_REFUSED(j.setLimit(-20, -20, btScalar(0.15), btScalar(-2.6e38)), "biasFactor");
 	EXPECT_REFUSED(j.setLimit(-1, 1, btScalar(0.9), btScalar(0.3), btScalar(1001)), "relaxationFactor");
 	EXPECT_EQ(j.getLowerLimit(), btScalar(0.5));
-	EXPECT_EQ(j.getLimitBiasFactor(), btScalar(0.3));
+	EXPECT_EQ(j.getLimitBiasFactor(), btScalar(0.3f));  // the default, stock's float literal
 	w.world.addConstraint(&j, true);
 	for (const btScalar factor : {btScalar(1e3), btScalar(-1e3)})
 	{
