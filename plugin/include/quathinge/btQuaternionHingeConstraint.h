@@ -348,10 +348,11 @@ private:
 /// Replaces every btHingeConstraint in `world` by its equivalent btQuaternionHingeConstraint (same place in the
 /// world's constraint list order is not kept: each is removed and the replacement added, with the same
 /// disableCollisionsBetweenLinkedBodies choice as far as the world can tell it). Returns how many it replaced.
-/// Ownership: the world never owned constraints. The replacements are allocated with new and handed to the caller:
-/// each removed stock hinge is appended to *removedStock (the caller deletes them; if removedStock is null they are
-/// deleted here), and each new joint is appended to *added (if not null). The caller deletes the new joints after
-/// removing them from the world, as it would have deleted the stock ones.
+/// Ownership: the world never owned constraints, and this function deletes nothing. The replacements are allocated
+/// here with new and belong to the caller: each is appended to *added (if not null); the caller removes them from
+/// the world and deletes them (before the bodies go). The removed stock hinges stay with whoever allocated them: each
+/// is appended to *removedStock (if not null), so the caller can delete the ones it allocated itself; hinges a
+/// btBulletWorldImporter loaded are deleted by its deleteAllData() (deleting them here as well was a double free).
 QUATHINGE_API int btReplaceHingeConstraints(btDynamicsWorld * world, btAlignedObjectArray<btQuaternionHingeConstraint*>* added = 0,
 							  btAlignedObjectArray<btHingeConstraint*>* removedStock = 0);
 
