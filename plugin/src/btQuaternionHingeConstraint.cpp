@@ -3,6 +3,7 @@
 // multi-turn angle (HingeAngle.h, Q11). getInfo1 decides which rows exist; getInfo2 fills them in that order:
 //   [0..2] point-to-point (unless angular-only)   [next 2] quaternion rows   [drive] [friction] [limit]
 #include "quathinge/btQuaternionHingeConstraint.h"
+#include "quathinge/btQuaternionHingeSerialization.h"
 
 #include "AxisRows.h"
 #include "HingeAngle.h"
@@ -242,6 +243,14 @@ btQuaternionHingeConstraint::btQuaternionHingeConstraint(btRigidBody& rbA, btRig
 	}
 	setMaxFrictionTorque(settings.maxFrictionTorque);
 	if (check::refusals() != refusalsBefore) refuseConstruction();
+}
+
+// Serialization lives in HingeSerialization.cpp, which uses only the public API; these overrides forward to it.
+int btQuaternionHingeConstraint::calculateSerializeBufferSize() const { return btQuaternionHingeSerializeBufferSize(); }
+
+const char* btQuaternionHingeConstraint::serialize(void* dataBuffer, btSerializer* serializer) const
+{
+	return btQuaternionHingeSerialize(*this, dataBuffer, serializer);
 }
 
 btQuaternionHingeConstraint* btQuaternionHingeConstraint::upcast(btTypedConstraint* constraint)

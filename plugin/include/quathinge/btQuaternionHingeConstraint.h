@@ -186,8 +186,9 @@ public:
 	virtual btScalar getParam(int num, int axis = -1) const;
 	virtual int getFlags() const { return m_settings.flags; }
 
-	/// Writes btQuaternionHingeConstraintData (see btQuaternionHingeSerialization.h): a btHingeConstraintData that any
-	/// Bullet reader loads as a stock hinge, followed by everything else a QuatHinge reader needs to restore the joint.
+	/// Writes a btHingeConstraintData that any Bullet reader loads as a stock hinge, and through the serializer a second
+	/// chunk with everything a QuatHinge reader needs to restore the joint (btQuaternionHingeSerialization.h; these
+	/// forward to btQuaternionHingeSerializeBufferSize and btQuaternionHingeSerialize).
 	virtual int calculateSerializeBufferSize() const;
 	virtual const char* serialize(void* dataBuffer, btSerializer* serializer) const;
 
@@ -263,6 +264,13 @@ public:
 	/// The multi-turn angle (rad, getHingeAngle's sign): continuous across ±π, counts whole turns (Q11). It is tracked
 	/// at every solver step while a limit, servo or spring needs it, and from the first call of this function on.
 	btScalar getMultiTurnAngle();
+	/// The multi-turn angle as last tracked, without tracking anything (for serialization): true, and `angle` set, when
+	/// the joint holds one; false when it has not tracked the angle since its last reset (then `angle` is unchanged).
+	bool getTrackedMultiTurnAngle(btScalar & angle) const
+	{
+		if (m_multiTurnValid) angle = m_multiTurnAngle;
+		return m_multiTurnValid;
+	}
 	/// Declares the current pose to be at multi-turn angle `angle` (must equal getHingeAngle() modulo 2π within 1e-3
 	/// rad; refused otherwise).
 	void setMultiTurnAngle(btScalar angle);
