@@ -99,6 +99,12 @@ private:
 			if (!oldPointer) continue;
 			const char* quat = static_cast<const char*>(file.findLibPointer(btQuaternionHingeChunkKey(*oldPointer)));
 			if (!quat) continue;  // a stock hinge
+			// a QuatHinge chunk has no DNA struct, so the loader leaves it in the file's buffer, right after its chunk
+			// header; a block the loader allocated (a struct chunk that happens to carry this old pointer) is not one
+			bool allocatedByLoader = false;
+			for (int b = 0; b < file.m_dataBlocks.size() && !allocatedByLoader; ++b)
+				allocatedByLoader = file.m_dataBlocks[b] == quat;
+			if (allocatedByLoader) continue;
 			btHingeConstraint* stock = static_cast<btHingeConstraint*>(m_allocatedConstraints[built[k]]);
 			btQuaternionHingeConstraint* joint = deserialize(quat, chunkLength(file, quat), *stock);
 			if (!joint)
