@@ -1,11 +1,12 @@
-// Serialization writes everything a reader needs: every setting round-trips field by field, and the prefix is a
-// stock btHingeConstraintData.
+// Serialization writes everything a reader needs: every setting round-trips field by field through the QuatHinge
+// chunk, and the joint's own chunk is a stock btHingeConstraintData. Whole files: test_serialize_file.cpp.
 #include "quathinge/btQuaternionHingeSerialization.h"
 
 #include <btBulletDynamicsCommon.h>
 #include "support/Refusal.h"
 #include <gtest/gtest.h>
 
+#include <cstddef>
 #include <cstring>
 #include <memory>
 #include <stdexcept>
@@ -13,15 +14,34 @@
 
 namespace
 {
-std::vector<unsigned char> serialize(const btQuaternionHingeConstraint& joint)
+// What serialize() writes: the joint's chunk (stock's struct) and the QuatHinge chunk it hands the serializer.
+struct Written
+{
+	std::vector<unsigned char> stock, quat;
+	int quatDnaNumber = 0;
+};
+
+Written serialize(const btQuaternionHingeConstraint& joint)
 {
 	btDefaultSerializer serializer;
 	serializer.startSerialization();
-	std::vector<unsigned char> buffer(size_t(joint.calculateSerializeBufferSize()));
-	const char* name = joint.serialize(buffer.data(), &serializer);
+	Written w;
+	w.stock.resize(size_t(joint.calculateSerializeBufferSize()));
+	const char* name = joint.serialize(w.stock.data(), &serializer);
 	EXPECT_STREQ(name, btHingeConstraintDataName);
+	EXPECT_EQ(w.stock.size(), sizeof(btHingeConstraintData));  // exactly stock's struct: stock readers copy no more
+	void* self = const_cast<btTypedConstraint*>(static_cast<const btTypedConstraint*>(&joint));
+	void* key = btQuaternionHingeChunkKey(serializer.getUniquePointer(self));
+	for (int i = 0; i < serializer.getNumChunks(); ++i)
+	{
+		const btChunk* chunk = serializer.getChunk(i);
+		if (chunk->m_oldPtr != key) continue;
+		const unsigned char* data = reinterpret_cast<const unsigned char*>(chunk + 1);
+		w.quat.assign(data, data + chunk->m_length);
+		w.quatDnaNumber = chunk->m_dna_nr;
+	}
 	serializer.finishSerialization();
-	return buffer;
+	return w;
 }
 }  // namespace
 
@@ -53,10 +73,12 @@ TEST(Serialization, EverySettingRoundTrips)
 	b.setWorldTransform(btTransform(btQuaternion(btVector3(0, 0, 1), btScalar(0.4))));
 	joint.setMultiTurnAngle(joint.getHingeAngle() - SIMD_2_PI);  // one turn down (≈ −5.9 rad), inside [−7, 9]
 	const btScalar multiTurn = joint.getMultiTurnAngle();
-	const std::vector<unsigned char> buffer = serialize(joint);
+	const Written written = serialize(joint);
+	const std::vector<unsigned char>& buffer = written.quat;
+	ASSERT_EQ(buffer.size(), sizeof(btQuaternionHingeChunkData));
 
 	btQuaternionHingeSettings s;
-	std::string why;
+	const char* why = "";
 	ASSERT_TRUE(btQuaternionHingeReadSettings(buffer.data(), buffer.size(), s, &why)) << why;
 	const btQuaternionHingeSettings& o = joint.getSettings();
 	EXPECT_EQ(s.frameInA.getOrigin(), o.frameInA.getOrigin());
@@ -105,23 +127,40 @@ TEST(Serialization, EverySettingRoundTrips)
 	EXPECT_EQ(restored->getMultiTurnAngle(), multiTurn);
 }
 
-TEST(Serialization, PrefixIsAStockHingeAndAPlainStockBufferIsRefused)
+TEST(Serialization, JointChunkIsAStockHingeAndOtherBytesAreRefused)
 {
-	// A Bullet reader sees a btHingeConstraintData of HINGE_CONSTRAINT_TYPE; a buffer without the tail is refused.
+	// A Bullet reader sees a btHingeConstraintData of HINGE_CONSTRAINT_TYPE; the QuatHinge chunk is an opaque byte
+	// array (no DNA struct: Bullet's loader keeps it as it is); a stock chunk, a short chunk or another version is
+	// refused with a static message.
 	btBoxShape shape(btVector3(1, 1, 1));
 	btRigidBody a(1, nullptr, &shape, btVector3(1, 1, 1)), b(1, nullptr, &shape, btVector3(1, 1, 1));
 	btQuaternionHingeConstraint joint(a, b, btTransform::getIdentity(), btTransform::getIdentity());
 	joint.enableAngularMotor(true, 2, 3);
-	const std::vector<unsigned char> buffer = serialize(joint);
+	const Written written = serialize(joint);
+	EXPECT_LT(written.quatDnaNumber, 0);
 	btHingeConstraintData stock;
-	std::memcpy(&stock, buffer.data(), sizeof(stock));
+	std::memcpy(&stock, written.stock.data(), sizeof(stock));
 	EXPECT_EQ(stock.m_typeConstraintData.m_objectType, int(HINGE_CONSTRAINT_TYPE));
 	EXPECT_EQ(stock.m_enableAngularMotor, 1);
 	EXPECT_EQ(stock.m_motorTargetVelocity, 2);
 	EXPECT_GT(stock.m_lowerLimit, stock.m_upperLimit);  // stock's "no limit"
 	btQuaternionHingeSettings s;
-	std::string why;
-	EXPECT_FALSE(btQuaternionHingeReadSettings(buffer.data(), sizeof(btHingeConstraintData), s, &why));
-	EXPECT_FALSE(why.empty());
-	EXPECT_REFUSED(delete btQuaternionHingeDeserialize(buffer.data(), sizeof(btHingeConstraintData), a, b), "data");
+	const char* why = nullptr;
+	EXPECT_FALSE(btQuaternionHingeReadSettings(written.stock.data(), written.stock.size(), s, &why));
+	ASSERT_NE(why, nullptr);
+	EXPECT_NE(std::strstr(why, "magic"), nullptr) << why;
+	why = nullptr;
+	EXPECT_FALSE(btQuaternionHingeReadSettings(written.quat.data(), written.quat.size() - 8, s, &why));
+	ASSERT_NE(why, nullptr);
+	EXPECT_NE(std::strstr(why, "size"), nullptr) << why;
+	std::vector<unsigned char> otherVersion = written.quat;
+	const int version = 1;
+	std::memcpy(otherVersion.data() + offsetof(btQuaternionHingeChunkData, m_version), &version, sizeof(version));
+	why = nullptr;
+	EXPECT_FALSE(btQuaternionHingeReadSettings(otherVersion.data(), otherVersion.size(), s, &why));
+	ASSERT_NE(why, nullptr);
+	EXPECT_NE(std::strstr(why, "version"), nullptr) << why;
+	EXPECT_TRUE(btQuaternionHingeReadSettings(written.quat.data(), written.quat.size(), s));  // why may be null
+	EXPECT_REFUSED(delete btQuaternionHingeDeserialize(written.stock.data(), written.stock.size(), a, b), "data");
+	EXPECT_REFUSED(delete btQuaternionHingeDeserialize(otherVersion.data(), otherVersion.size(), a, b), "data");
 }

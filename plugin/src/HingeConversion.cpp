@@ -83,8 +83,9 @@ int btReplaceHingeConstraints(btDynamicsWorld* world, btAlignedObjectArray<btQua
 		world->removeConstraint(stock);
 		world->addConstraint(replacement, disableCollisions);
 		if (added) added->push_back(replacement);
+		// never deleted here: this function did not allocate it (a world importer owns the hinges it loaded and deletes
+		// them in deleteAllData; an app deletes its own)
 		if (removedStock) removedStock->push_back(stock);
-		else delete stock;
 	}
 	return stockHinges.size();
 }

@@ -1,11 +1,10 @@
 // Serialization of btQuaternionHingeConstraint: the layout and its reasons are in btQuaternionHingeSerialization.h.
+// Only the joint's public API is used here; the joint's serialize() overrides forward to these functions.
 #include "quathinge/btQuaternionHingeSerialization.h"
 
-#include "LinearMath/btSerializer.h"
-
 #include <cmath>
+#include <cstdio>
 #include <cstring>
-#include <string>
 #include "HingeAngle.h"
 #include "InputChecks.h"
 
@@ -14,104 +13,149 @@ namespace
 // The largest solver-iteration override a file may ask for (Bullet would run every one of them, every step).
 const int kMaxSolverIterationsOverride = 1000;
 
-const int kVersion = 1;
-}
+// SIMD_INFINITY ("never breaks", "no speed or torque cap") is FLT_MAX in a float build and DBL_MAX in a double one; the
+// chunk stores it as +∞ so that each reader gets its own SIMD_INFINITY back.
+double writeUnbounded(btScalar value) { return value >= SIMD_INFINITY ? HUGE_VAL : double(value); }
+btScalar readUnbounded(double value) { return value == HUGE_VAL ? SIMD_INFINITY : btScalar(value); }
 
-int btQuaternionHingeConstraint::calculateSerializeBufferSize() const
+void writeFrame(const btTransform& frame, btTransformDoubleData& out)
 {
-	return int(sizeof(btQuaternionHingeConstraintData));
+	for (int i = 0; i < 3; ++i) frame.getBasis().getRow(i).serializeDouble(out.m_basis.m_el[i]);
+	frame.getOrigin().serializeDouble(out.m_origin);
 }
+}  // namespace
 
-const char* btQuaternionHingeConstraint::serialize(void* dataBuffer, btSerializer* serializer) const
+int btQuaternionHingeSerializeBufferSize() { return int(sizeof(btHingeConstraintData)); }
+
+void btQuaternionHingeFillChunk(const btQuaternionHingeConstraint& joint, btQuaternionHingeChunkData& data)
 {
-	btQuaternionHingeConstraintData* data = static_cast<btQuaternionHingeConstraintData*>(dataBuffer);
-	std::memset(data, 0, sizeof(*data));
-	const btQuaternionHingeSettings& s = m_settings;
-
-	// The stock prefix, filled as btHingeConstraint::serialize fills it.
-	btHingeConstraintData& stock = data->m_stock;
-	btTypedConstraint::serialize(&stock.m_typeConstraintData, serializer);
-	stock.m_typeConstraintData.m_objectType = HINGE_CONSTRAINT_TYPE;  // stock readers build the nearest stock hinge
-	s.frameInA.serialize(stock.m_rbAFrame);
-	s.frameInB.serialize(stock.m_rbBFrame);
-	stock.m_useReferenceFrameA = s.useReferenceFrameA;
-	stock.m_angularOnly = s.angularOnly;
-	stock.m_enableAngularMotor = s.driveMode == BT_QHINGE_DRIVE_VELOCITY;
-	stock.m_motorTargetVelocity = s.motorTargetVelocity;
-	stock.m_maxMotorImpulse = s.maxMotorImpulse;
-	// stock's "no limit" is low > high
-	stock.m_lowerLimit = s.hasLimit ? s.lowerLimit : btScalar(1);
-	stock.m_upperLimit = s.hasLimit ? s.upperLimit : btScalar(-1);
-	stock.m_limitSoftness = s.limitSoftness;
-	stock.m_biasFactor = s.limitBiasFactor;
-	stock.m_relaxationFactor = s.limitRelaxationFactor;
-
-	std::memcpy(data->m_magic, kQuaternionHingeMagic, sizeof(data->m_magic));
-	data->m_version = kVersion;
-	data->m_flags = s.flags;
-	data->m_hasLimit = s.hasLimit;
-	data->m_driveMode = s.driveMode;
-	data->m_useFrameOffset = s.useFrameOffset;
-	data->m_multiTurnValid = m_multiTurnValid;
-	data->m_lowerLimit = s.lowerLimit;
-	data->m_upperLimit = s.upperLimit;
-	data->m_motorTargetVelocity = s.motorTargetVelocity;
-	data->m_maxMotorImpulse = s.maxMotorImpulse;
-	data->m_servoTargetAngle = s.servoTargetAngle;
-	data->m_servoMaxSpeed = s.servoMaxSpeed;
-	data->m_servoMaxTorque = s.servoMaxTorque;
-	data->m_springRestAngle = s.springRestAngle;
-	data->m_springFrequency = s.springFrequency;
-	data->m_springDampingRatio = s.springDampingRatio;
-	data->m_maxFrictionTorque = s.maxFrictionTorque;
+	std::memset(&data, 0, sizeof(data));
+	const btQuaternionHingeSettings& s = joint.getSettings();
+	std::memcpy(data.m_magic, kQuaternionHingeMagic, sizeof(data.m_magic));
+	data.m_version = kQuaternionHingeChunkVersion;
+	data.m_size = int(sizeof(data));
+	data.m_flags = s.flags;
+	data.m_hasLimit = s.hasLimit;
+	data.m_driveMode = s.driveMode;
+	data.m_useFrameOffset = s.useFrameOffset;
+	data.m_useReferenceFrameA = s.useReferenceFrameA;
+	data.m_angularOnly = s.angularOnly;
+	btScalar multiTurn = 0;
+	data.m_multiTurnValid = joint.getTrackedMultiTurnAngle(multiTurn);
+	data.m_multiTurnAngle = multiTurn;
+	data.m_isEnabled = joint.isEnabled();
+	data.m_userConstraintType = joint.getUserConstraintType();
+	data.m_userConstraintId = joint.getUserConstraintId();
+	data.m_overrideNumSolverIterations = joint.getOverrideNumSolverIterations();
+	data.m_needsFeedback = joint.needsFeedback();
+	writeFrame(s.frameInA, data.m_frameInA);
+	writeFrame(s.frameInB, data.m_frameInB);
+	data.m_lowerLimit = s.lowerLimit;
+	data.m_upperLimit = s.upperLimit;
+	data.m_limitSoftness = s.limitSoftness;
+	data.m_limitBiasFactor = s.limitBiasFactor;
+	data.m_limitRelaxationFactor = s.limitRelaxationFactor;
+	data.m_motorTargetVelocity = s.motorTargetVelocity;
+	data.m_maxMotorImpulse = s.maxMotorImpulse;
+	data.m_servoTargetAngle = s.servoTargetAngle;
+	data.m_servoMaxSpeed = writeUnbounded(s.servoMaxSpeed);
+	data.m_servoMaxTorque = writeUnbounded(s.servoMaxTorque);
+	data.m_springRestAngle = s.springRestAngle;
+	data.m_springFrequency = s.springFrequency;
+	data.m_springDampingRatio = s.springDampingRatio;
+	data.m_maxFrictionTorque = s.maxFrictionTorque;
 	for (int i = 0; i < 6; ++i)
 	{
-		data->m_rowErp[i] = s.rowErp[i];
-		data->m_rowCfm[i] = s.rowCfm[i];
+		data.m_rowErp[i] = s.rowErp[i];
+		data.m_rowCfm[i] = s.rowCfm[i];
 	}
-	data->m_stopErp = s.stopErp;
-	data->m_stopCfm = s.stopCfm;
-	data->m_multiTurnAngle = m_multiTurnAngle;
+	data.m_stopErp = s.stopErp;
+	data.m_stopCfm = s.stopCfm;
+	data.m_breakingImpulseThreshold = writeUnbounded(joint.getBreakingImpulseThreshold());
+	data.m_dbgDrawSize = const_cast<btQuaternionHingeConstraint&>(joint).getDbgDrawSize();  // Bullet's getter is not const
+}
+
+const char* btQuaternionHingeSerialize(const btQuaternionHingeConstraint& joint, void* dataBuffer,
+									   btSerializer* serializer)
+{
+	btHingeConstraintData* stock = static_cast<btHingeConstraintData*>(dataBuffer);
+	std::memset(stock, 0, sizeof(*stock));
+	const btQuaternionHingeSettings& s = joint.getSettings();
+
+	// The joint's chunk, filled as btHingeConstraint::serialize fills it.
+	joint.btTypedConstraint::serialize(&stock->m_typeConstraintData, serializer);
+	stock->m_typeConstraintData.m_objectType = HINGE_CONSTRAINT_TYPE;  // stock readers build the nearest stock hinge
+	s.frameInA.serialize(stock->m_rbAFrame);
+	s.frameInB.serialize(stock->m_rbBFrame);
+	stock->m_useReferenceFrameA = s.useReferenceFrameA;
+	stock->m_angularOnly = s.angularOnly;
+	stock->m_enableAngularMotor = s.driveMode == BT_QHINGE_DRIVE_VELOCITY;
+	stock->m_motorTargetVelocity = s.motorTargetVelocity;
+	stock->m_maxMotorImpulse = s.maxMotorImpulse;
+	// stock's "no limit" is low > high
+	stock->m_lowerLimit = s.hasLimit ? s.lowerLimit : btScalar(1);
+	stock->m_upperLimit = s.hasLimit ? s.upperLimit : btScalar(-1);
+	stock->m_limitSoftness = s.limitSoftness;
+	stock->m_biasFactor = s.limitBiasFactor;
+	stock->m_relaxationFactor = s.limitRelaxationFactor;
+
+	// The QuatHinge chunk, under a key derived from the joint's own old pointer (the one finalizeChunk will give the
+	// joint's chunk: getUniquePointer hands out the same pointer for the same object every time).
+	void* jointOld = serializer->getUniquePointer(const_cast<btTypedConstraint*>(static_cast<const btTypedConstraint*>(&joint)));
+	if (jointOld)
+	{
+		btChunk* chunk = serializer->allocate(sizeof(char), int(sizeof(btQuaternionHingeChunkData)));
+		btQuaternionHingeChunkData data;
+		btQuaternionHingeFillChunk(joint, data);
+		std::memcpy(chunk->m_oldPtr, &data, sizeof(data));
+		// registered under the settings' address (unique to this joint), then given the derived old pointer
+		serializer->finalizeChunk(chunk, "char", BT_ARRAY_CODE, const_cast<btQuaternionHingeSettings*>(&s));
+		chunk->m_oldPtr = btQuaternionHingeChunkKey(jointOld);
+	}
 	return btHingeConstraintDataName;
 }
 
-bool btQuaternionHingeReadSettings(const void* buffer, size_t size, btQuaternionHingeSettings& s, std::string* why)
+bool btQuaternionHingeReadSettings(const void* buffer, size_t size, btQuaternionHingeSettings& s, const char** why)
 {
-	if (size < sizeof(btQuaternionHingeConstraintData))
+	const char* reason = 0;
+	btQuaternionHingeChunkData data;
+	std::memset(&data, 0, sizeof(data));
+	if (size < sizeof(data.m_magic) + 2 * sizeof(int))
+		reason = "smaller than a QuatHinge chunk header";
+	else
 	{
-		if (why) *why = "buffer smaller than btQuaternionHingeConstraintData (a plain btHingeConstraintData?)";
+		std::memcpy(&data, buffer, sizeof(data.m_magic) + 2 * sizeof(int));
+		if (std::memcmp(data.m_magic, kQuaternionHingeMagic, sizeof(data.m_magic)) != 0)
+			reason = "not a QuatHinge chunk (magic mismatch)";
+		else if (data.m_version != kQuaternionHingeChunkVersion)
+			reason = "unknown QuatHinge chunk version";
+		else if (data.m_size != int(sizeof(data)) || size < sizeof(data))
+			reason = "QuatHinge chunk size does not match its version";
+	}
+	if (reason)
+	{
+		if (why) *why = reason;
 		return false;
 	}
-	btQuaternionHingeConstraintData data;
-	std::memcpy(&data, buffer, sizeof(data));
-	if (std::memcmp(data.m_magic, kQuaternionHingeMagic, sizeof(data.m_magic)) != 0)
-	{
-		if (why) *why = "no QuatHinge tail (magic mismatch): a stock btHingeConstraintData";
-		return false;
-	}
-	if (data.m_version != kVersion)
-	{
-		if (why) *why = "unknown QuatHinge serialization version " + std::to_string(data.m_version);
-		return false;
-	}
+	std::memcpy(&data, buffer, sizeof(data));  // copied: the chunk may sit unaligned in a file buffer
 	s = btQuaternionHingeSettings();
-	s.frameInA.deSerialize(data.m_stock.m_rbAFrame);
-	s.frameInB.deSerialize(data.m_stock.m_rbBFrame);
-	s.useReferenceFrameA = data.m_stock.m_useReferenceFrameA != 0;
-	s.angularOnly = data.m_stock.m_angularOnly != 0;
+	s.frameInA.deSerializeDouble(data.m_frameInA);
+	s.frameInB.deSerializeDouble(data.m_frameInB);
+	s.useReferenceFrameA = data.m_useReferenceFrameA != 0;
+	s.angularOnly = data.m_angularOnly != 0;
 	s.useFrameOffset = data.m_useFrameOffset != 0;
 	s.hasLimit = data.m_hasLimit != 0;
 	s.lowerLimit = btScalar(data.m_lowerLimit);
 	s.upperLimit = btScalar(data.m_upperLimit);
-	s.limitSoftness = btScalar(data.m_stock.m_limitSoftness);
-	s.limitBiasFactor = btScalar(data.m_stock.m_biasFactor);
-	s.limitRelaxationFactor = btScalar(data.m_stock.m_relaxationFactor);
+	s.limitSoftness = btScalar(data.m_limitSoftness);
+	s.limitBiasFactor = btScalar(data.m_limitBiasFactor);
+	s.limitRelaxationFactor = btScalar(data.m_limitRelaxationFactor);
 	s.driveMode = btQuaternionHingeDriveMode(data.m_driveMode);
 	s.motorTargetVelocity = btScalar(data.m_motorTargetVelocity);
 	s.maxMotorImpulse = btScalar(data.m_maxMotorImpulse);
 	s.servoTargetAngle = btScalar(data.m_servoTargetAngle);
-	s.servoMaxSpeed = btScalar(data.m_servoMaxSpeed);
-	s.servoMaxTorque = btScalar(data.m_servoMaxTorque);
+	s.servoMaxSpeed = readUnbounded(data.m_servoMaxSpeed);
+	s.servoMaxTorque = readUnbounded(data.m_servoMaxTorque);
 	s.springRestAngle = btScalar(data.m_springRestAngle);
 	s.springFrequency = btScalar(data.m_springFrequency);
 	s.springDampingRatio = btScalar(data.m_springDampingRatio);
@@ -130,44 +174,56 @@ bool btQuaternionHingeReadSettings(const void* buffer, size_t size, btQuaternion
 btQuaternionHingeConstraint* btQuaternionHingeDeserialize(const void* buffer, size_t size, btRigidBody& rbA,
 														  btRigidBody& rbB)
 {
+	const char* fn = "btQuaternionHingeDeserialize";
+	char message[160];
 	btQuaternionHingeSettings settings;
-	std::string why;
+	const char* why = 0;
 	if (!btQuaternionHingeReadSettings(buffer, size, settings, &why))
-		return quathinge::check::fail("btQuaternionHingeDeserialize", ("data: " + why).c_str()), nullptr;
-	btQuaternionHingeConstraintData data;
+	{
+		std::snprintf(message, sizeof(message), "data: %s", why);
+		return quathinge::check::fail(fn, message), nullptr;
+	}
+	btQuaternionHingeChunkData data;
 	std::memcpy(&data, buffer, sizeof(data));
 	// btTypedConstraint's own fields from the file, checked as the joint's setters check theirs (its setters do not)
-	const auto& typed = data.m_stock.m_typeConstraintData;
-	const double threshold = double(typed.m_breakingImpulseThreshold);
+	const double threshold = data.m_breakingImpulseThreshold;
 	if (!(threshold >= 0))
-		return quathinge::check::fail("btQuaternionHingeDeserialize", ("data: breakingImpulseThreshold (" +
-									std::to_string(threshold) + ") must be >= 0 (SIMD_INFINITY: never breaks)").c_str()), nullptr;
-	const int iterations = typed.m_overrideNumSolverIterations;
+	{
+		std::snprintf(message, sizeof(message),
+					  "data: breakingImpulseThreshold (%g) must be >= 0 (SIMD_INFINITY: never breaks)", threshold);
+		return quathinge::check::fail(fn, message), nullptr;
+	}
+	const int iterations = data.m_overrideNumSolverIterations;
 	if (iterations != -1 && (iterations < 1 || iterations > kMaxSolverIterationsOverride))
-		return quathinge::check::fail("btQuaternionHingeDeserialize", ("data: overrideNumSolverIterations (" +
-									std::to_string(iterations) + ") must be -1 (none) or in [1, " +
-									std::to_string(kMaxSolverIterationsOverride) + "]").c_str()), nullptr;
-	const double drawSize = double(typed.m_dbgDrawSize);
+	{
+		std::snprintf(message, sizeof(message), "data: overrideNumSolverIterations (%d) must be -1 (none) or in [1, %d]",
+					  iterations, kMaxSolverIterationsOverride);
+		return quathinge::check::fail(fn, message), nullptr;
+	}
+	const double drawSize = data.m_dbgDrawSize;
 	if (!(drawSize >= 0) || !std::isfinite(drawSize))
-		return quathinge::check::fail("btQuaternionHingeDeserialize", ("data: dbgDrawSize (" + std::to_string(drawSize) +
-									") must be finite and >= 0").c_str()), nullptr;
+	{
+		std::snprintf(message, sizeof(message), "data: dbgDrawSize (%g) must be finite and >= 0", drawSize);
+		return quathinge::check::fail(fn, message), nullptr;
+	}
 	btQuaternionHingeConstraint* joint = new btQuaternionHingeConstraint(rbA, rbB, settings);
 	if (joint->getFault() == BT_QHINGE_FAULT_INVALID_ARGUMENT)  // refused without exceptions (reported already)
 	{
 		delete joint;
 		return nullptr;
 	}
-	joint->setBreakingImpulseThreshold(btScalar(typed.m_breakingImpulseThreshold));
-	joint->setEnabled(typed.m_isEnabled != 0);
-	joint->setUserConstraintType(typed.m_userConstraintType);
-	joint->setUserConstraintId(typed.m_userConstraintId);
-	joint->setOverrideNumSolverIterations(typed.m_overrideNumSolverIterations);
-	joint->enableFeedback(typed.m_needsFeedback != 0);
-	joint->setDbgDrawSize(btScalar(typed.m_dbgDrawSize));
+	joint->setBreakingImpulseThreshold(readUnbounded(threshold));
+	joint->setEnabled(data.m_isEnabled != 0);
+	joint->setUserConstraintType(data.m_userConstraintType);
+	joint->setUserConstraintId(data.m_userConstraintId);
+	joint->setOverrideNumSolverIterations(iterations);
+	joint->enableFeedback(data.m_needsFeedback != 0);
+	joint->setDbgDrawSize(btScalar(drawSize));
 	// unless the bodies were not restored to the saved pose: the angle then restarts from the pose (setMultiTurnAngle's
 	// test, asked first so that nothing is refused)
-	if (data.m_multiTurnValid && btFabs(btScalar(data.m_multiTurnAngle)) <= quathinge::check::kMaxAngle &&
-		btFabs(quathinge::wrapAngle(btScalar(data.m_multiTurnAngle) - joint->getHingeAngle())) <= btScalar(1e-3))
-		joint->setMultiTurnAngle(btScalar(data.m_multiTurnAngle));
+	const btScalar angle = btScalar(data.m_multiTurnAngle);
+	if (data.m_multiTurnValid && std::isfinite(data.m_multiTurnAngle) && btFabs(angle) <= quathinge::check::kMaxAngle &&
+		btFabs(quathinge::wrapAngle(angle - joint->getHingeAngle())) <= btScalar(1e-3))
+		joint->setMultiTurnAngle(angle);
 	return joint;
 }

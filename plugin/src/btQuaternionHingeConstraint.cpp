@@ -6,6 +6,7 @@
 //   HingeErpCfm.cpp                  setParam/getParam: ERP and CFM per row kind
 //   HingeSolverRows.cpp              the solver interface: which rows exist (getInfo1) and their values (getInfo2)
 #include "quathinge/btQuaternionHingeConstraint.h"
+#include "quathinge/btQuaternionHingeSerialization.h"
 
 #include "AxisRows.h"
 #include "HingeAngle.h"
@@ -202,6 +203,14 @@ btQuaternionHingeConstraint::btQuaternionHingeConstraint(btRigidBody& rbA, btRig
 	}
 	setMaxFrictionTorque(settings.maxFrictionTorque);
 	if (check::refusals() != refusalsBefore) refuseConstruction();
+}
+
+// Serialization lives in HingeSerialization.cpp, which uses only the public API; these overrides forward to it.
+int btQuaternionHingeConstraint::calculateSerializeBufferSize() const { return btQuaternionHingeSerializeBufferSize(); }
+
+const char* btQuaternionHingeConstraint::serialize(void* dataBuffer, btSerializer* serializer) const
+{
+	return btQuaternionHingeSerialize(*this, dataBuffer, serializer);
 }
 
 btQuaternionHingeConstraint* btQuaternionHingeConstraint::upcast(btTypedConstraint* constraint)

@@ -426,7 +426,9 @@ def repro_debugdraw_half_open_limit():
     return s
 
 
-def repro_deserialize_negative_breaking_threshold():
+def deserialize_repro(at, value):
+    """A joint round-tripped through its QuatHinge chunk (btQuaternionHingeChunkData) with the bytes at `at`
+    overwritten by `value`."""
     s = Seed()
     s.body(1, pos=(0.5, 0, 0))
     s.body(0)
@@ -440,22 +442,21 @@ def repro_deserialize_negative_breaking_threshold():
     s.pick(0)
     s.byte(0)  # round trip
     s.pick(1)  # one overwrite:
-    s.byte(0)
-    s.byte(56)  # m_stock.m_typeConstraintData.m_breakingImpulseThreshold (float build: offset 56)
-    s.pick(2)  # 4 bytes
-    for b in struct.pack("<f", -1e20):
+    s.byte(at >> 8)
+    s.byte(at & 0xFF)
+    s.pick({4: 2, 8: 3}[len(value)])  # 4 or 8 bytes
+    for b in value:
         s.byte(b)
     world(s, 1)
     return s
 
 
+def repro_deserialize_negative_breaking_threshold():
+    return deserialize_repro(552, struct.pack("<d", -1e20))  # m_breakingImpulseThreshold (double, offset 552)
+
+
 def repro_deserialize_huge_solver_iterations():
-    s = repro_deserialize_negative_breaking_threshold()
-    data = s.out
-    at = data.index(bytes([0, 56]))
-    data[at + 1] = 52  # m_overrideNumSolverIterations (float build: offset 52)
-    data[at + 3 : at + 7] = struct.pack("<i", 250000000)
-    return s
+    return deserialize_repro(56, struct.pack("<i", 250000000))  # m_overrideNumSolverIterations (int, offset 56)
 
 
 def pendulum_with_world_pivot_edited(y, stabilize, between):

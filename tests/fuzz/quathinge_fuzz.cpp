@@ -412,15 +412,14 @@ void applySetter(Input& in, btQuaternionHingeConstraint& j)
 	}
 }
 
-// Serializes the joint, overwrites a few bytes of the buffer as the input says, and reads it back: a refusal keeps
+// Serializes the joint (its QuatHinge chunk), overwrites a few bytes of it as the input says, and reads it back: a refusal keeps
 // the original joint, an acceptance replaces it.
 btQuaternionHingeConstraint* roundTrip(Input& in, btQuaternionHingeConstraint* joint)
 {
-	btDefaultSerializer serializer;
-	serializer.startSerialization();
-	std::vector<unsigned char> buffer(size_t(joint->calculateSerializeBufferSize()));
-	joint->serialize(buffer.data(), &serializer);
-	serializer.finishSerialization();
+	btQuaternionHingeChunkData chunk;
+	btQuaternionHingeFillChunk(*joint, chunk);  // the QuatHinge chunk serialize() writes
+	std::vector<unsigned char> buffer(sizeof chunk);
+	std::memcpy(buffer.data(), &chunk, sizeof chunk);
 	for (int k = 0, n = in.pick(6); k < n; ++k)
 	{
 		const size_t high = in.byte(), low = in.byte();

@@ -187,8 +187,9 @@ public:
 	virtual btScalar getParam(int num, int axis = -1) const;
 	virtual int getFlags() const { return m_settings.flags; }
 
-	/// Writes btQuaternionHingeConstraintData (see btQuaternionHingeSerialization.h): a btHingeConstraintData that any
-	/// Bullet reader loads as a stock hinge, followed by everything else a QuatHinge reader needs to restore the joint.
+	/// Writes a btHingeConstraintData that any Bullet reader loads as a stock hinge, and through the serializer a second
+	/// chunk with everything a QuatHinge reader needs to restore the joint (btQuaternionHingeSerialization.h; these
+	/// forward to btQuaternionHingeSerializeBufferSize and btQuaternionHingeSerialize).
 	virtual int calculateSerializeBufferSize() const;
 	virtual const char* serialize(void* dataBuffer, btSerializer* serializer) const;
 
@@ -269,6 +270,13 @@ public:
 	/// The multi-turn angle (rad, getHingeAngle's sign): continuous across ±π, counts whole turns (Q11). It is tracked
 	/// at every solver step while a limit, servo or spring needs it, and from the first call of this function on.
 	btScalar getMultiTurnAngle();
+	/// The multi-turn angle as last tracked, without tracking anything (for serialization): true, and `angle` set, when
+	/// the joint holds one; false when it has not tracked the angle since its last reset (then `angle` is unchanged).
+	bool getTrackedMultiTurnAngle(btScalar & angle) const
+	{
+		if (m_multiTurnValid) angle = m_multiTurnAngle;
+		return m_multiTurnValid;
+	}
 	/// Declares the current pose to be at multi-turn angle `angle` (must equal getHingeAngle() modulo 2π within 1e-3
 	/// rad; refused otherwise).
 	void setMultiTurnAngle(btScalar angle);
@@ -361,10 +369,11 @@ private:
 /// Replaces every btHingeConstraint in `world` by its equivalent btQuaternionHingeConstraint (same place in the
 /// world's constraint list order is not kept: each is removed and the replacement added, with the same
 /// disableCollisionsBetweenLinkedBodies choice as far as the world can tell it). Returns how many it replaced.
-/// Ownership: the world never owned constraints. The replacements are allocated with new and handed to the caller:
-/// each removed stock hinge is appended to *removedStock (the caller deletes them; if removedStock is null they are
-/// deleted here), and each new joint is appended to *added (if not null). The caller deletes the new joints after
-/// removing them from the world, as it would have deleted the stock ones.
+/// Ownership: the world never owned constraints, and this function deletes nothing. The replacements are allocated
+/// here with new and belong to the caller: each is appended to *added (if not null); the caller removes them from
+/// the world and deletes them (before the bodies go). The removed stock hinges stay with whoever allocated them: each
+/// is appended to *removedStock (if not null), so the caller can delete the ones it allocated itself; hinges a
+/// btBulletWorldImporter loaded are deleted by its deleteAllData() (deleting them here as well was a double free).
 QUATHINGE_API int btReplaceHingeConstraints(btDynamicsWorld * world, btAlignedObjectArray<btQuaternionHingeConstraint*>* added = 0,
 							  btAlignedObjectArray<btHingeConstraint*>* removedStock = 0);
 
