@@ -18,6 +18,44 @@ const int kMaxSolverIterationsOverride = 1000;
 double writeUnbounded(btScalar value) { return value >= SIMD_INFINITY ? HUGE_VAL : double(value); }
 btScalar readUnbounded(double value) { return value == HUGE_VAL ? SIMD_INFINITY : btScalar(value); }
 
+// The settings' real-valued and boolean fields and where the chunk keeps them (doubles and ints): one table that
+// writing and reading both walk. unbounded: SIMD_INFINITY is stored as +∞ (writeUnbounded).
+struct RealField
+{
+	btScalar btQuaternionHingeSettings::*setting;
+	double btQuaternionHingeChunkData::*chunk;
+	bool unbounded;
+};
+const RealField kRealFields[] = {
+	{&btQuaternionHingeSettings::lowerLimit, &btQuaternionHingeChunkData::m_lowerLimit, false},
+	{&btQuaternionHingeSettings::upperLimit, &btQuaternionHingeChunkData::m_upperLimit, false},
+	{&btQuaternionHingeSettings::limitSoftness, &btQuaternionHingeChunkData::m_limitSoftness, false},
+	{&btQuaternionHingeSettings::limitBiasFactor, &btQuaternionHingeChunkData::m_limitBiasFactor, false},
+	{&btQuaternionHingeSettings::limitRelaxationFactor, &btQuaternionHingeChunkData::m_limitRelaxationFactor, false},
+	{&btQuaternionHingeSettings::motorTargetVelocity, &btQuaternionHingeChunkData::m_motorTargetVelocity, false},
+	{&btQuaternionHingeSettings::maxMotorImpulse, &btQuaternionHingeChunkData::m_maxMotorImpulse, false},
+	{&btQuaternionHingeSettings::servoTargetAngle, &btQuaternionHingeChunkData::m_servoTargetAngle, false},
+	{&btQuaternionHingeSettings::servoMaxSpeed, &btQuaternionHingeChunkData::m_servoMaxSpeed, true},
+	{&btQuaternionHingeSettings::servoMaxTorque, &btQuaternionHingeChunkData::m_servoMaxTorque, true},
+	{&btQuaternionHingeSettings::springRestAngle, &btQuaternionHingeChunkData::m_springRestAngle, false},
+	{&btQuaternionHingeSettings::springFrequency, &btQuaternionHingeChunkData::m_springFrequency, false},
+	{&btQuaternionHingeSettings::springDampingRatio, &btQuaternionHingeChunkData::m_springDampingRatio, false},
+	{&btQuaternionHingeSettings::maxFrictionTorque, &btQuaternionHingeChunkData::m_maxFrictionTorque, false},
+	{&btQuaternionHingeSettings::stopErp, &btQuaternionHingeChunkData::m_stopErp, false},
+	{&btQuaternionHingeSettings::stopCfm, &btQuaternionHingeChunkData::m_stopCfm, false},
+};
+struct BoolField
+{
+	bool btQuaternionHingeSettings::*setting;
+	int btQuaternionHingeChunkData::*chunk;
+};
+const BoolField kBoolFields[] = {
+	{&btQuaternionHingeSettings::hasLimit, &btQuaternionHingeChunkData::m_hasLimit},
+	{&btQuaternionHingeSettings::useFrameOffset, &btQuaternionHingeChunkData::m_useFrameOffset},
+	{&btQuaternionHingeSettings::useReferenceFrameA, &btQuaternionHingeChunkData::m_useReferenceFrameA},
+	{&btQuaternionHingeSettings::angularOnly, &btQuaternionHingeChunkData::m_angularOnly},
+};
+
 void writeFrame(const btTransform& frame, btTransformDoubleData& out)
 {
 	for (int i = 0; i < 3; ++i) frame.getBasis().getRow(i).serializeDouble(out.m_basis.m_el[i]);
@@ -35,11 +73,8 @@ void btQuaternionHingeFillChunk(const btQuaternionHingeConstraint& joint, btQuat
 	data.m_version = kQuaternionHingeChunkVersion;
 	data.m_size = int(sizeof(data));
 	data.m_flags = s.flags;
-	data.m_hasLimit = s.hasLimit;
 	data.m_driveMode = s.driveMode;
-	data.m_useFrameOffset = s.useFrameOffset;
-	data.m_useReferenceFrameA = s.useReferenceFrameA;
-	data.m_angularOnly = s.angularOnly;
+	for (const BoolField& f : kBoolFields) data.*f.chunk = s.*f.setting;
 	btScalar multiTurn = 0;
 	data.m_multiTurnValid = joint.getTrackedMultiTurnAngle(multiTurn);
 	data.m_multiTurnAngle = multiTurn;
@@ -50,27 +85,13 @@ void btQuaternionHingeFillChunk(const btQuaternionHingeConstraint& joint, btQuat
 	data.m_needsFeedback = joint.needsFeedback();
 	writeFrame(s.frameInA, data.m_frameInA);
 	writeFrame(s.frameInB, data.m_frameInB);
-	data.m_lowerLimit = s.lowerLimit;
-	data.m_upperLimit = s.upperLimit;
-	data.m_limitSoftness = s.limitSoftness;
-	data.m_limitBiasFactor = s.limitBiasFactor;
-	data.m_limitRelaxationFactor = s.limitRelaxationFactor;
-	data.m_motorTargetVelocity = s.motorTargetVelocity;
-	data.m_maxMotorImpulse = s.maxMotorImpulse;
-	data.m_servoTargetAngle = s.servoTargetAngle;
-	data.m_servoMaxSpeed = writeUnbounded(s.servoMaxSpeed);
-	data.m_servoMaxTorque = writeUnbounded(s.servoMaxTorque);
-	data.m_springRestAngle = s.springRestAngle;
-	data.m_springFrequency = s.springFrequency;
-	data.m_springDampingRatio = s.springDampingRatio;
-	data.m_maxFrictionTorque = s.maxFrictionTorque;
+	for (const RealField& f : kRealFields)
+		data.*f.chunk = f.unbounded ? writeUnbounded(s.*f.setting) : double(s.*f.setting);
 	for (int i = 0; i < 6; ++i)
 	{
 		data.m_rowErp[i] = s.rowErp[i];
 		data.m_rowCfm[i] = s.rowCfm[i];
 	}
-	data.m_stopErp = s.stopErp;
-	data.m_stopCfm = s.stopCfm;
 	data.m_breakingImpulseThreshold = writeUnbounded(joint.getBreakingImpulseThreshold());
 	data.m_dbgDrawSize = const_cast<btQuaternionHingeConstraint&>(joint).getDbgDrawSize();  // Bullet's getter is not const
 }
@@ -141,32 +162,15 @@ bool btQuaternionHingeReadSettings(const void* buffer, size_t size, btQuaternion
 	s = btQuaternionHingeSettings();
 	s.frameInA.deSerializeDouble(data.m_frameInA);
 	s.frameInB.deSerializeDouble(data.m_frameInB);
-	s.useReferenceFrameA = data.m_useReferenceFrameA != 0;
-	s.angularOnly = data.m_angularOnly != 0;
-	s.useFrameOffset = data.m_useFrameOffset != 0;
-	s.hasLimit = data.m_hasLimit != 0;
-	s.lowerLimit = btScalar(data.m_lowerLimit);
-	s.upperLimit = btScalar(data.m_upperLimit);
-	s.limitSoftness = btScalar(data.m_limitSoftness);
-	s.limitBiasFactor = btScalar(data.m_limitBiasFactor);
-	s.limitRelaxationFactor = btScalar(data.m_limitRelaxationFactor);
+	for (const BoolField& f : kBoolFields) s.*f.setting = data.*f.chunk != 0;
+	for (const RealField& f : kRealFields)
+		s.*f.setting = f.unbounded ? readUnbounded(data.*f.chunk) : btScalar(data.*f.chunk);
 	s.driveMode = btQuaternionHingeDriveMode(data.m_driveMode);
-	s.motorTargetVelocity = btScalar(data.m_motorTargetVelocity);
-	s.maxMotorImpulse = btScalar(data.m_maxMotorImpulse);
-	s.servoTargetAngle = btScalar(data.m_servoTargetAngle);
-	s.servoMaxSpeed = readUnbounded(data.m_servoMaxSpeed);
-	s.servoMaxTorque = readUnbounded(data.m_servoMaxTorque);
-	s.springRestAngle = btScalar(data.m_springRestAngle);
-	s.springFrequency = btScalar(data.m_springFrequency);
-	s.springDampingRatio = btScalar(data.m_springDampingRatio);
-	s.maxFrictionTorque = btScalar(data.m_maxFrictionTorque);
 	for (int i = 0; i < 6; ++i)
 	{
 		s.rowErp[i] = btScalar(data.m_rowErp[i]);
 		s.rowCfm[i] = btScalar(data.m_rowCfm[i]);
 	}
-	s.stopErp = btScalar(data.m_stopErp);
-	s.stopCfm = btScalar(data.m_stopCfm);
 	s.flags = data.m_flags;
 	return true;
 }
