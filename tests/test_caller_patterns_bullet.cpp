@@ -313,3 +313,53 @@ TEST(CallerPatterns, BulletWorldImporterRestoresASavedHinge)
 	EXPECT_EQ(r.quat.reads[0], 1);  // the never-limited hinge's 1 and −1 come back as a free joint
 	EXPECT_EQ(r.quat.reads[1], -1);
 }
+
+TEST(CallerPatterns, BulletDoorOnTheWorldHoldsItsFarPivotAsStock)
+{
+	// FAILS: a real difference not in README's table (reported, not fixed here). This door's pivot is 12.3 m from its
+	// centre of mass (12.1 m out, 2 m along the axis). With 10 iterations the quaternion hinge's rows converge more
+	// slowly than stock's on that lever: hanging at rest under gravity its pivot sags 0.0155 m (stock: 0; the
+	// quaternion hinge 5.9e-4 m with 50 iterations, 0 with 200), and pushed into its stop at 2 rad/s the pivots come
+	// 1.84 m apart (stock 0.215 m; the quaternion hinge 0.46 m with 50 iterations, 0.065 m with 200). With the pivot
+	// 2.1 m out both hold the hanging door exactly and the quaternion hinge parts less at the stop (0.0078 m, stock
+	// 0.037 m): the far pivot is what matters.
+	// bulletphysics/bullet3 examples/Constraints/ConstraintDemo.cpp, initPhysics, "create a door using hinge constraint
+	// attached to the world": a door (box 2 × 5 × 0.2 half extents, 1 kg, DISABLE_DEACTIVATION) at (−5, −2, 0),
+	// btHingeConstraint(*pDoorBody, btPivotA (10.f + 2.1f, −2, 0) "right next to the door slightly outside",
+	// btAxisA (0, 1, 0)) (the one-body pivot/axis form), setLimit(-SIMD_PI * 0.25f, SIMD_PI * 0.25f),
+	// setDbgDrawSize(5); gravity −10 m/s² along the axis. The door hangs for 1 s, then is pushed open at 2 rad/s
+	// about the hinge (the demo's user drags it) and runs into the stop at π/4.
+	auto r = replayOnBoth([](auto* tag) {
+		using Hinge = HingeOf<decltype(tag)>;
+		CallerRun run;
+		qh_test::World w;
+		btRigidBody* door = w.addBox(1, btVector3(2, 5, btScalar(0.2)), btTransform(btQuaternion::getIdentity(), btVector3(-5, -2, 0)));
+		const btVector3 pivot(btScalar(12.1), -2, 0);
+		Hinge* hinge = w.add(new Hinge(*door, pivot, btVector3(0, 1, 0)), false);
+		hinge->setLimit(-kPi * btScalar(0.25), kPi * btScalar(0.25));
+		hinge->setDbgDrawSize(btScalar(5));
+		run.reads = {hinge->getLowerLimit(), hinge->getUpperLimit(), hinge->getDbgDrawSize(), double(hinge->hasLimit())};
+		record(run, w, *hinge, 60);
+		run.extra.push_back(run.maxSeparation);  // hanging
+		const btVector3 spin(0, 2, 0);
+		door->setAngularVelocity(spin);
+		door->setLinearVelocity(spin.cross(-(door->getCenterOfMassTransform().getBasis() * pivot)));
+		record(run, w, *hinge, 120);
+		run.extra.push_back(run.maxSeparation);  // through the stop
+		return run;
+	});
+	std::printf("[ figures  ] ConstraintDemo door, pivots apart at most: hanging stock %.3g m, quaternion %.3g m; at the "
+				"stop stock %.3g m, quaternion %.3g m\n", r.stock.extra[0], r.quat.extra[0], r.stock.extra[1], r.quat.extra[1]);
+	// Stock's behaviour: the hanging door's pivot held to 1e-3 m (and its angle, 0, to 0.01 rad); through the stop the
+	// pivots no further apart than stock's plus 10%. (The rebound from the stop differs by design, README "limit
+	// softness", so the angle is not compared after the push.)
+	CallerRun stockHanging = r.stock, quatHanging = r.quat;
+	stockHanging.angles.resize(60);
+	quatHanging.angles.resize(60);
+	stockHanging.maxSeparation = r.stock.extra[0];
+	quatHanging.maxSeparation = r.quat.extra[0];
+	qh_test::expectSameRun("ConstraintDemo door, hanging", stockHanging, quatHanging, kAngleTol);
+	EXPECT_LE(r.stock.extra[0], 1e-3);
+	EXPECT_LE(r.quat.extra[0], 1e-3);
+	EXPECT_LE(r.quat.extra[1], 1.1 * r.stock.extra[1]);
+}

@@ -66,10 +66,12 @@ bool checkSettings(const char* fn, const btQuaternionHingeStabilizerSettings& s)
 }  // namespace
 
 btQuaternionHingeStabilizer::btQuaternionHingeStabilizer(const btQuaternionHingeStabilizerSettings& settings)
-	: m_impl(new Impl)
+	: m_impl(nullptr)
 {
-	// refused without exceptions: the default settings stay
+	// refused without exceptions: the default settings stay; with exceptions the throw comes before anything is
+	// allocated (m_impl is a plain pointer: a throw after it would leak it)
 	if (checkSettings("btQuaternionHingeStabilizer", settings)) m_settings = settings;
+	m_impl = new Impl;
 }
 
 btQuaternionHingeStabilizer::~btQuaternionHingeStabilizer() { delete m_impl; }
