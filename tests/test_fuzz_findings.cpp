@@ -269,3 +269,20 @@ TEST(FuzzFindings, LimitFactorsBeyondTheirRangeAreRefused)
 	}
 	w.world.removeConstraint(&j);
 }
+
+TEST(FuzzFindings, ADenormalAxisNormalizesToAUnitAxis)
+{
+	// denormal-axis: an axis of (1.4e-45, 0, 0) (finite, not zero) was scaled by btVector3's division, which multiplies
+	// by 1/1.4e-45 = +inf in float: the axis became NaN, and so did frame B, in a joint reporting no fault. Now scaled
+	// component by component: the axis is the unit x axis, and frame B a rotation.
+	btBoxShape shape(btVector3(1, 1, 1));
+	btRigidBody a(1, nullptr, &shape, btVector3(1, 1, 1)), b(1, nullptr, &shape, btVector3(1, 1, 1));
+	const btScalar tiny = std::numeric_limits<btScalar>::denorm_min();
+	btQuaternionHingeConstraint j(a, b, btVector3(0, 0, 0), btVector3(0, 0, 0), btVector3(0, 0, 1), btVector3(tiny, 0, 0));
+	EXPECT_EQ(j.getFault(), BT_QHINGE_FAULT_NONE);
+	EXPECT_TRUE(isRotation(j.getBFrame().getBasis()));
+	EXPECT_NEAR(j.getBFrame().getBasis().getColumn(2).x(), 1, 1e-6);
+	btQuaternionHingeConstraint one(a, btVector3(0, 0, 0), btVector3(0, -tiny, 0));
+	EXPECT_TRUE(isRotation(one.getAFrame().getBasis()));
+	EXPECT_NEAR(one.getAFrame().getBasis().getColumn(2).y(), -1, 1e-6);
+}

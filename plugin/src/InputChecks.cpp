@@ -84,7 +84,9 @@ bool direction(const char* fn, const char* param, const btVector3& axis, btVecto
 	// still normalizes
 	const btScalar largest = btMax(btFabs(axis.x()), btMax(btFabs(axis.y()), btFabs(axis.z())));
 	if (largest == 0) return fail(fn, (std::string(param) + " must not be the zero vector").c_str());
-	const btVector3 scaled = axis / largest;
+	// component by component: btVector3's division multiplies by 1/largest, which is +inf for a denormal largest
+	// (the fuzzer's axis of 1e-45 became NaN and a NaN frame B)
+	const btVector3 scaled(axis.x() / largest, axis.y() / largest, axis.z() / largest);
 	normalized = scaled / scaled.length();
 	return true;
 }
