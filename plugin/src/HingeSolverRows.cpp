@@ -200,14 +200,27 @@ int btQuaternionHingeConstraint::fillBilateralRows(btConstraintInfo2* info, cons
 		const btScalar det = uu * vv - uv * uv;
 		// (not for an offset at round-off level, 8 ε of the arms: a chain whose pivots lie across its axes keeps its bits)
 		const btScalar roundOff = btScalar(8) * SIMD_EPSILON * (btSqrt(dotXyz(rA, rA)) + btSqrt(dotXyz(rB, rB)));
-		const bool shift = btFabs(delta) > roundOff && det > SIMD_EPSILON * uu * vv;
+		const bool quaternionRowsIndependent = det > SIMD_EPSILON * uu * vv;
+		const bool shift = btFabs(delta) > roundOff && quaternionRowsIndependent;
 		// A joint to a static body (a one-body hinge, a door on the world): stock takes the lever arm off the axial row
 		// altogether ("to make constraint between static and dynamic objects more rigid"), and so does this, exactly:
 		// the arm's part a × r lies across the axis, in the quaternion rows' span where they hold, so the axial row
 		// takes off the multiple of them that cancels its dynamic side's angular part (a door 12.3 m from its pivot,
 		// gravity along the axis: its pivot sagged 0.016 m at 10 iterations, where stock's holds).
 		const bool staticA = m_rbA.getInvMass() < SIMD_EPSILON, staticB = m_rbB.getInvMass() < SIMD_EPSILON;  // as stock
-		const bool freeAxialArm = staticA != staticB && det > SIMD_EPSILON * uu * vv;
+		const bool freeAxialArm = staticA != staticB && quaternionRowsIndependent;
+		// The row operation both take: the point row minus c_u, c_v times the quaternion rows (A side −u', −v', B side
+		// +u', +v', errors errorU, errorV), (c_u, c_v) = scale × the coefficients of w's projection on (u', v'); w by
+		// value: it may be one of the arms the operation changes.
+		auto takeOffQuaternionRows = [&](const Lanes w, btScalar scale, Lanes& angularA, Lanes& angularB,
+										 btScalar& error) {
+			const btScalar wu = dotXyz(turnedU, w), wv = dotXyz(turnedV, w);
+			const btScalar cu = scale * (vv * wu - uv * wv) / det, cv = scale * (uu * wv - uv * wu) / det;
+			const Lanes g = turnedU * cu + turnedV * cv;
+			angularA += g;
+			angularB -= g;
+			error -= cu * errorU + cv * errorV;
+		};
 		const Lanes directions[3] = {basis.p, basis.t, basis.a};
 		for (int i = 0; i < 3; ++i, ++row)
 		{
@@ -215,27 +228,11 @@ int btQuaternionHingeConstraint::fillBilateralRows(btConstraintInfo2* info, cons
 			const int at = row * skip;
 			Lanes angularA = crossLanes(e, rA), angularB = crossLanes(rB, e);
 			btScalar error = -errorScale(kLinearKind + i) * dotXyz(e, c);
-			if (shift && i < 2)  // a × a = 0: the axial row needs none
-			{
-				const Lanes w = crossLanes(basis.a, e);
-				const btScalar wu = dotXyz(turnedU, w), wv = dotXyz(turnedV, w);
-				const btScalar cu = delta * (vv * wu - uv * wv) / det, cv = delta * (uu * wv - uv * wu) / det;
-				const Lanes g = turnedU * cu + turnedV * cv;
-				angularA += g;  // minus (c_u, c_v)·δ times the quaternion rows, whose A side is −g
-				angularB -= g;
-				error -= cu * errorU + cv * errorV;
-			}
+			// the arms' axial offset δ: w = a × e (a × a = 0: the axial row needs none)
+			if (shift && i < 2) takeOffQuaternionRows(crossLanes(basis.a, e), delta, angularA, angularB, error);
+			// the axial row's whole lever on the dynamic side, J1 (A) or J2 (B): A's + g = 0, or B's − g = 0
 			if (freeAxialArm && i == 2)
-			{
-				// the dynamic side's angular part, J1 (A) or J2 (B), to be cancelled: A's + g = 0, or B's − g = 0
-				const Lanes w = staticB ? -angularA : angularB;
-				const btScalar wu = dotXyz(turnedU, w), wv = dotXyz(turnedV, w);
-				const btScalar cu = (vv * wu - uv * wv) / det, cv = (uu * wv - uv * wu) / det;
-				const Lanes g = turnedU * cu + turnedV * cv;
-				angularA += g;
-				angularB -= g;
-				error -= cu * errorU + cv * errorV;
-			}
+				takeOffQuaternionRows(staticB ? -angularA : angularB, btScalar(1), angularA, angularB, error);
 			storeXyz(info->m_J1linearAxis + at, -e);
 			storeXyz(info->m_J2linearAxis + at, e);
 			storeXyz(info->m_J1angularAxis + at, angularA);
