@@ -27,3 +27,5 @@ btQuaternionHingeErrorCallback btQuaternionHingeGetErrorCallback(void** userPoin
 	return g_callback;
 }
 
+
+void btQuaternionHingeReportError(const char* message) { g_callback(message, g_userPointer); }

@@ -25,9 +25,7 @@ bool refuse(const std::string& message)
 {
 	++t_refusals;
 #ifdef QUATHINGE_NO_EXCEPTIONS
-	void* user = nullptr;
-	const btQuaternionHingeErrorCallback callback = btQuaternionHingeGetErrorCallback(&user);
-	callback(message.c_str(), user);
+	btQuaternionHingeReportError(message.c_str());
 	return false;
 #else
 	throw std::invalid_argument(message);

@@ -38,9 +38,7 @@ bool fail(const char* fn, const char* field, const char* what, double value)
 	std::ostringstream message;
 	message << kClass << "::" << fn << ": " << field << " (" << value << ") " << what;
 #ifdef QUATHINGE_NO_EXCEPTIONS
-	void* user = nullptr;
-	const btQuaternionHingeErrorCallback callback = btQuaternionHingeGetErrorCallback(&user);
-	callback(message.str().c_str(), user);
+	btQuaternionHingeReportError(message.str().c_str());
 	return false;
 #else
 	throw std::invalid_argument(message.str());

@@ -29,6 +29,9 @@ typedef void (*btQuaternionHingeErrorCallback)(const char* message, void* userPo
 QUATHINGE_API void btQuaternionHingeSetErrorCallback(btQuaternionHingeErrorCallback callback, void* userPointer);
 /// The callback in effect, and (if `userPointer` is not null) its user pointer.
 QUATHINGE_API btQuaternionHingeErrorCallback btQuaternionHingeGetErrorCallback(void** userPointer);
+/// Hands `message` to the callback in effect, with its user pointer: what every refusal does in a build without
+/// exceptions (and what btQuaternionHingeWorldImporter does with a refused chunk in either build).
+QUATHINGE_API void btQuaternionHingeReportError(const char* message);
 /// The default: writes "QuatHinge: <message>" and a newline through printf, as Bullet reports its own warnings.
 QUATHINGE_API void btQuaternionHingeDefaultErrorCallback(const char* message, void* userPointer);
 
