@@ -16,9 +16,7 @@ using qh_test::replayOnBoth;
 
 namespace
 {
-// Same motion (rad, at every step): both classes hold the same joint with differently formed rows; over a few seconds
-// their residuals differ by round-off-sized amounts that the dynamics amplify near stops and motors.
-const double kAngleTol = 0.01;
+const double kAngleTol = qh_test::kSameMotionTol;  // rad
 const btScalar kPi = SIMD_PI;
 }  // namespace
 

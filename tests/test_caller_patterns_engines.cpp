@@ -19,8 +19,7 @@ using qh_test::replayOnBoth;
 
 namespace
 {
-// Same motion (rad, at every step), as in test_caller_patterns_bullet.cpp.
-const double kAngleTol = 0.01;
+const double kAngleTol = qh_test::kSameMotionTol;  // rad
 // Limit ends read back: stock recomputes them from centre and half range (its getters wrap), the quaternion hinge
 // returns them as given; the same to float round-off (rad).
 const double kEndTol = 1e-6;

@@ -64,6 +64,14 @@ btQuaternionHingeConstraint::btQuaternionHingeConstraint(const btHingeConstraint
 	setDbgDrawSize(mutableStock(stock).getDbgDrawSize());
 }
 
+void btSwapConstraintInWorld(btDynamicsWorld* world, btTypedConstraint* constraint, btTypedConstraint* replacement)
+{
+	// addConstraint(c, true) registers c with both bodies; that is how the world remembers the choice.
+	const bool disableCollisions = bodyRefersTo(constraint->getRigidBodyA(), constraint);
+	world->removeConstraint(constraint);
+	world->addConstraint(replacement, disableCollisions);
+}
+
 int btReplaceHingeConstraints(btDynamicsWorld* world, btAlignedObjectArray<btQuaternionHingeConstraint*>* added,
 							  btAlignedObjectArray<btHingeConstraint*>* removedStock)
 {
@@ -77,11 +85,8 @@ int btReplaceHingeConstraints(btDynamicsWorld* world, btAlignedObjectArray<btQua
 	for (int i = 0; i < stockHinges.size(); ++i)
 	{
 		btHingeConstraint* stock = stockHinges[i];
-		// addConstraint(c, true) registers c with both bodies; that is how the world remembers the choice.
-		const bool disableCollisions = bodyRefersTo(stock->getRigidBodyA(), stock);
 		btQuaternionHingeConstraint* replacement = new btQuaternionHingeConstraint(*stock);
-		world->removeConstraint(stock);
-		world->addConstraint(replacement, disableCollisions);
+		btSwapConstraintInWorld(world, stock, replacement);
 		if (added) added->push_back(replacement);
 		// never deleted here: this function did not allocate it (a world importer owns the hinges it loaded and deletes
 		// them in deleteAllData; an app deletes its own)

@@ -20,6 +20,11 @@
 
 namespace qh_test
 {
+/// Same motion (rad, at every step) for the caller-pattern tests: both classes hold the same joint with differently
+/// formed rows; over a few seconds their residuals differ by round-off-sized amounts that the dynamics amplify near
+/// stops and motors.
+const double kSameMotionTol = 0.01;
+
 /// The hinge class a replay runs on, from its tag.
 template <class Tag>
 using HingeOf = typename std::remove_pointer<typename std::decay<Tag>::type>::type;

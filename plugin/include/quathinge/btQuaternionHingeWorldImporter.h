@@ -126,9 +126,7 @@ private:
 		}
 		catch (const std::invalid_argument& refusal)
 		{
-			void* user = 0;
-			btQuaternionHingeErrorCallback callback = btQuaternionHingeGetErrorCallback(&user);
-			callback(refusal.what(), user);
+			btQuaternionHingeReportError(refusal.what());
 			return 0;
 		}
 #else
@@ -138,15 +136,7 @@ private:
 
 	void replace(int index, btHingeConstraint* stock, btQuaternionHingeConstraint* joint)
 	{
-		if (m_dynamicsWorld)
-		{
-			// addConstraint(c, true) registers c with its bodies: how the world remembers disableCollisions
-			bool disableCollisions = false;
-			for (int i = 0; i < stock->getRigidBodyA().getNumConstraintRefs(); ++i)
-				disableCollisions = disableCollisions || stock->getRigidBodyA().getConstraintRef(i) == stock;
-			m_dynamicsWorld->removeConstraint(stock);
-			m_dynamicsWorld->addConstraint(joint, disableCollisions);
-		}
+		if (m_dynamicsWorld) btSwapConstraintInWorld(m_dynamicsWorld, stock, joint);
 		if (const char* const* name = m_objectNameMap.find(stock))
 		{
 			const char* kept = *name;
