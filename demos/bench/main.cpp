@@ -262,6 +262,7 @@ struct StepScene
 	SceneSpec scene;
 	int warmup;  // steps before timing
 	int timed;   // steps timed (a fixed count, so every kind times the same stretch of simulated time)
+	bool everyKind = true;  // false: stock, quaternion and quaternion+stab only (the robots and the scenes at rest)
 };
 
 void benchStep(benchmark::State& state, const StepScene* spec, Kind kind)
@@ -333,15 +334,29 @@ void registerAll()
 	// land (they touch the ground after about 0.55 s). Then a fixed number of steps is timed (Iterations): the
 	// scenes are not stationary (the ragdolls come to rest), and a count chosen by time would give the faster kinds
 	// a longer, different stretch of the motion. Each repetition rebuilds the world and times the same stretch.
-	static const std::vector<StepScene> scenes = {
-		{chainScene(10, 1), 30, 3000},
-		{chainScene(100, 1), 30, 600},
-		{chainScene(1000, 1), 30, 100},
-		{ragdollCrowd(100), 60, 150},
-	};
+	// The scenes at rest: 500 links hanging still, awake (the stabilizer should find nothing to do) and allowed to
+	// sleep (Bullet deactivates them during the warm-up). The robots (demos/models): 3 s at 60 Hz from their start
+	// pose, falling under gravity on their fixed base, as the comparison demo runs them.
+	static const std::vector<StepScene> scenes = [] {
+		std::vector<StepScene> list = {
+			{chainScene(10, 1), 30, 3000},
+			{chainScene(100, 1), 30, 600},
+			{chainScene(1000, 1), 30, 100},
+			{ragdollCrowd(100), 60, 150},
+			{restScene(50, 10, false), 180, 300, false},
+			{restScene(50, 10, true), 180, 300, false},
+		};
+		for (const char* robot : {"kuka_iiwa", "pendulum5", "humanoid", "base_2", "quadruped", "two_joint_robot", "spider"})
+		{
+			SceneSpec scene = makeScene(robot, 1);
+			if (scene.unavailable.empty()) list.push_back({scene, 0, 180, false});
+		}
+		return list;
+	}();
 	for (const StepScene& s : scenes)
 		for (Kind kind : {Kind::Stock, Kind::Generic6Dof2, Kind::Quaternion, Kind::QuaternionStabilized, Kind::MultiBody})
 		{
+			if (!s.everyKind && (kind == Kind::Generic6Dof2 || kind == Kind::MultiBody)) continue;
 			const std::string name = "step/" + s.scene.name + "/" + kindName(kind);
 			benchmark::RegisterBenchmark(name.c_str(), benchStep, &s, kind)
 				->Unit(benchmark::kMicrosecond)

@@ -59,7 +59,7 @@ std::vector<std::string> sceneNames()
 			"heavy1000",     "heavy10000",    "double_pendulum", "rotor100",       "rotor1000", "flipped90",
 			"flipped179",    "flipped180",    "limit_hit",       "limit_across_pi", "limit_wide", "motor_lift",
 			"four_bar",      "ragdoll",       "spider",          "kuka_iiwa",      "pendulum5", "humanoid",
-			"base_2",        "quadruped",     "two_joint_robot"};
+			"base_2",        "quadruped",     "two_joint_robot", "rest500",  "rest500_asleep"};
 }
 
 std::string defaultModelsDir()
@@ -99,6 +99,8 @@ SceneSpec makeScene(const std::string& name, unsigned seed, const std::string& m
 	if (name == "motor_lift") return motorLiftScene();
 	if (name == "four_bar") return fourBarScene();
 	if (name == "ragdoll") return ragdollScene(seed);
+	if (name == "rest500") return restScene(50, 10, false);
+	if (name == "rest500_asleep") return restScene(50, 10, true);
 	if (name == "spider") return spiderScene(modelsDir);
 	if (name == "kuka_iiwa") return urdfScene(name, modelsDir + "/kuka_iiwa_model.urdf");
 	if (name == "pendulum5") return urdfScene(name, modelsDir + "/pendulum5.urdf");

@@ -96,6 +96,9 @@ struct SceneSpec
 	double duration = 5;          ///< s simulated by default
 	bool conservative = false;    ///< energy should be conserved (no drives, limits, contacts or damping)
 	bool ground = false;          ///< a static ground plane at y = 0
+	/// Bodies may be deactivated (Bullet's sleeping); false keeps them awake (DISABLE_DEACTIVATION), as games keep
+	/// ragdolls and vehicles.
+	bool allowSleep = false;
 	/// Shapes fixed to the world, drawn with it and without contacts (a URDF's root link, which is the world).
 	std::vector<ShapePart> worldParts;
 	Reference reference = Reference::FineStep;
@@ -133,6 +136,7 @@ SceneSpec limitWideScene();
 SceneSpec motorLiftScene();
 SceneSpec fourBarScene();
 SceneSpec ragdollScene(unsigned seed);
+SceneSpec restScene(int chains, int links, bool sleeping);
 SceneSpec spiderScene(const std::string& modelsDir);
 SceneSpec urdfScene(const std::string& name, const std::string& path);
 

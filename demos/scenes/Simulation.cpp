@@ -157,7 +157,7 @@ Simulation::Simulation(const SceneSpec& scene, Kind kind)
 			btRigidBody* body = m_ownedBodies.back().get();
 			body->setLinearVelocity(spec.linearVelocity);
 			body->setAngularVelocity(spec.angularVelocity);
-			body->setActivationState(DISABLE_DEACTIVATION);
+			if (!scene.allowSleep) body->setActivationState(DISABLE_DEACTIVATION);
 			if (kind != Kind::MultiBody)
 			{
 				if (spec.collides) m_world->addRigidBody(body);

@@ -118,6 +118,33 @@ struct Coupling
 	int j, sideJ;
 };
 
+/// What one island's projection did (summed into btQuaternionHingeStabilizerStats).
+struct ProjectionResult
+{
+	bool reused = false;  // the last step's result, replayed (IslandRestCache.h)
+	int iterations = 0;
+	int factorizations = 0;
+	int solves = 0;
+	int backtracks = 0;
+	int metricSwitches = 0;
+	int activeLimitRows = 0;
+	int numericalIssues = 0;
+	btScalar residualBefore = 0;
+	btScalar residualAfter = 0;
+	btScalar velocityResidualBefore = 0;
+	btScalar velocityResidualAfter = 0;
+};
+
+/// The last projection of an island, kept to replay while the island is at rest (IslandRestCache.h).
+struct RestCache
+{
+	Array<btScalar> inputs;   // what the projection read at the last step's start
+	Array<btScalar> current;  // this step's, gathered to compare (kept to avoid allocating)
+	Array<btScalar> outputs;  // per body: its transform and velocities after the projection
+	ProjectionResult result;  // the last projection's (its counters also say which of the bodies' state it set)
+	bool valid = false;
+};
+
 /// What every island holds; the block-sized data is in BlockIsland<blockRows>.
 struct Island
 {
@@ -141,6 +168,7 @@ struct Island
 	// conserveEnergy (EnergyProjection.cpp): the energy the island had when first projected (J).
 	double energyReference = 0;
 	bool energyReferenceSet = false;
+	RestCache restCache;
 };
 
 template <int R>
@@ -168,20 +196,6 @@ struct ProjectionSettings
 	bool velocities;
 	double regularization;
 	double rotationWeight;  // the position metric's inertia factor (btQuaternionHingeStabilizerSettings)
-};
-struct ProjectionResult
-{
-	int iterations = 0;
-	int factorizations = 0;
-	int solves = 0;
-	int backtracks = 0;
-	int metricSwitches = 0;
-	int activeLimitRows = 0;
-	int numericalIssues = 0;
-	btScalar residualBefore = 0;
-	btScalar residualAfter = 0;
-	btScalar velocityResidualBefore = 0;
-	btScalar velocityResidualAfter = 0;
 };
 
 /// Q13 then Q14 on one island.

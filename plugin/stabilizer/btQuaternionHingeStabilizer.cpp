@@ -4,6 +4,7 @@
 #include "quathinge/btQuaternionHingeStabilizer.h"
 #include "quathinge/btQuaternionHingeErrors.h"
 
+#include "IslandRestCache.h"
 #include "StabilizerIsland.h"
 
 #include "BulletDynamics/Dynamics/btDynamicsWorld.h"
@@ -80,6 +81,8 @@ void btQuaternionHingeStabilizer::setSettings(const btQuaternionHingeStabilizerS
 	// projectLimits and solver change the islands' structure.
 	if (settings.projectLimits != m_settings.projectLimits || settings.solver != m_settings.solver)
 		invalidateStructure();
+	// a kept projection was made with the old settings
+	for (const auto& island : m_impl->islands) forgetProjection(*island);
 	m_settings = settings;
 }
 
@@ -130,10 +133,21 @@ const btQuaternionHingeStabilizerStats& btQuaternionHingeStabilizer::stabilize(b
 	for (const auto& islandPtr : impl.islands)
 	{
 		Island& island = *islandPtr;
-		const ProjectionResult r = projectIsland(island, settings);
+		ProjectionResult r;
+		if (!replayIfAtRest(island, timeStep, r))
+		{
+			r = projectIsland(island, settings);
+			rememberProjection(island, r);
+		}
 		if (m_settings.conserveEnergy)
 			m_stats.energyCorrection = std::max(m_stats.energyCorrection, btScalar(restoreEnergy(island)));
 		++m_stats.islands;
+		if (r.reused) ++m_stats.restingIslands;
+		else
+		{
+			if (r.iterations == 0) ++m_stats.positionsWithinTolerance;
+			if (r.solves == r.iterations) ++m_stats.velocitiesWithinTolerance;
+		}
 		if (island.useSparse) ++m_stats.sparseIslands;
 		m_stats.joints += int(island.joints.size());
 		m_stats.bodies += int(island.bodies.size());

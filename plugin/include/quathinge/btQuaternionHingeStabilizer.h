@@ -131,7 +131,15 @@ struct btQuaternionHingeStabilizerSettings
 /// row of every island, in the units of positionTolerance.
 struct btQuaternionHingeStabilizerStats
 {
-	int islands = 0;              ///< islands projected
+	int islands = 0;              ///< islands projected (replayed ones included)
+	/// Islands at rest, left out: every input of their projection (the bodies' poses, velocities and mass properties,
+	/// the fixed partners' poses and velocities, the joints' frames, flags, limits and multi-turn angles, the step)
+	/// was, bit for bit, what it was at the last step's start, so the last step's result was applied again without
+	/// computing anything (exact: the projection is a deterministic function of them). A hanging chain kept awake
+	/// reaches such a fixed point under Bullet's solver; their counters below are zero, their residuals the last ones.
+	int restingIslands = 0;
+	int positionsWithinTolerance = 0;   ///< islands projected whose joint error was already within tolerance: no Newton step
+	int velocitiesWithinTolerance = 0;  ///< islands projected whose J v was already within tolerance: no velocity solve
 	int sparseIslands = 0;        ///< of which solved by the general sparse LDLᵀ (closed loops, or forced)
 	int joints = 0;               ///< joints projected
 	int bodies = 0;               ///< movable bodies in those islands

@@ -1,0 +1,144 @@
+// An island at rest gets the last step's projection back: IslandRestCache.h.
+#include "IslandRestCache.h"
+
+#include "quathinge/btQuaternionHingeConstraint.h"
+
+#include "BulletDynamics/Dynamics/btRigidBody.h"
+
+#include <cstring>
+
+namespace quathinge
+{
+namespace stabilizer
+{
+namespace
+{
+// The inputs are gathered as scalars and compared as bytes (bit for bit: −0 and +0 differ, as they may in atan2).
+struct Gather
+{
+	Array<btScalar>& out;
+	void add(btScalar x) { out.push_back(x); }
+	void add(const btVector3& v)
+	{
+		add(v.x());
+		add(v.y());
+		add(v.z());
+	}
+	void add(const btTransform& t)
+	{
+		for (int r = 0; r < 3; ++r) add(t.getBasis()[r]);
+		add(t.getOrigin());
+	}
+};
+
+void gatherInputs(const Island& island, btScalar timeStep, Array<btScalar>& out)
+{
+	out.clear();  // keeps its capacity: no allocation after the first step
+	Gather g{out};
+	g.add(timeStep);
+	for (const IslandBody& b : island.bodies)
+	{
+		const btRigidBody& body = *b.rigid;
+		g.add(body.getCenterOfMassTransform());
+		g.add(body.getLinearVelocity());
+		g.add(body.getAngularVelocity());
+		g.add(body.getInvMass());
+		g.add(body.getInvInertiaDiagLocal());
+		g.add(body.getLinearFactor());
+		g.add(body.getAngularFactor());
+	}
+	for (const JointSlot& js : island.joints)
+	{
+		for (int s = 0; s < 2; ++s)
+			if (js.body[s] < 0)  // a fixed partner (static, kinematic, asleep): its pose and velocity enter the rows
+			{
+				g.add(js.rigid[s]->getCenterOfMassTransform());
+				g.add(js.rigid[s]->getLinearVelocity());
+				g.add(js.rigid[s]->getAngularVelocity());
+			}
+		const btQuaternionHingeSettings& settings = js.joint->getSettings();
+		g.add(settings.frameInA);
+		g.add(settings.frameInB);
+		g.add(btScalar((settings.useReferenceFrameA ? 1 : 0) + (settings.angularOnly ? 2 : 0) + (settings.hasLimit ? 4 : 0)));
+		g.add(settings.lowerLimit);
+		g.add(settings.upperLimit);
+		// the projection's limit row starts from the joint's multi-turn angle (read only where the projection reads it)
+		if (js.limitSlot) g.add(js.joint->getMultiTurnAngle());
+	}
+}
+
+void gatherOutputs(const Island& island, Array<btScalar>& out)
+{
+	out.clear();
+	Gather g{out};
+	for (const IslandBody& b : island.bodies)
+	{
+		g.add(b.rigid->getCenterOfMassTransform());
+		g.add(b.rigid->getLinearVelocity());
+		g.add(b.rigid->getAngularVelocity());
+	}
+}
+
+const int kOutputsPerBody = 18;  // transform (12), linear and angular velocity (6)
+
+btVector3 vectorAt(const btScalar* p) { return btVector3(p[0], p[1], p[2]); }
+}  // namespace
+
+bool replayIfAtRest(Island& island, btScalar timeStep, ProjectionResult& result)
+{
+	RestCache& cache = island.restCache;
+	gatherInputs(island, timeStep, cache.current);
+	const bool same = cache.valid && cache.current.size() == cache.inputs.size() &&
+					  std::memcmp(cache.current.data(), cache.inputs.data(), cache.current.size() * sizeof(btScalar)) == 0;
+	if (!same)
+	{
+		cache.inputs.swap(cache.current);
+		cache.valid = false;
+		return false;
+	}
+	// The projection's effects, as it made them: every body's pose (and interpolation pose) and Bullet's world inverse
+	// inertia after a position iteration (movePositions, finishPositions), every body's velocities (and interpolation
+	// velocities) after a velocity solve (changeVelocities).
+	const ProjectionResult& last = cache.result;
+	const bool posesSet = last.iterations > 0;
+	const bool velocitiesSet = last.solves > last.iterations;
+	const btScalar* out = cache.outputs.data();
+	for (IslandBody& b : island.bodies)
+	{
+		btRigidBody& body = *b.rigid;
+		if (posesSet)
+		{
+			const btTransform t(btMatrix3x3(out[0], out[1], out[2], out[3], out[4], out[5], out[6], out[7], out[8]),
+								vectorAt(out + 9));
+			body.setWorldTransform(t);
+			body.setInterpolationWorldTransform(t);
+			body.updateInertiaTensor();
+		}
+		if (velocitiesSet)
+		{
+			const btVector3 v = vectorAt(out + 12), w = vectorAt(out + 15);
+			body.setLinearVelocity(v);
+			body.setAngularVelocity(w);
+			body.setInterpolationLinearVelocity(v);
+			body.setInterpolationAngularVelocity(w);
+		}
+		out += kOutputsPerBody;
+	}
+	result = last;
+	result.iterations = result.factorizations = result.solves = result.backtracks = result.metricSwitches = 0;
+	result.reused = true;
+	return true;
+}
+
+void rememberProjection(Island& island, const ProjectionResult& result)
+{
+	RestCache& cache = island.restCache;
+	gatherOutputs(island, cache.outputs);
+	cache.result = result;
+	cache.valid = true;
+}
+
+void forgetProjection(Island& island) { island.restCache.valid = false; }
+
+}  // namespace stabilizer
+}  // namespace quathinge

@@ -1,0 +1,254 @@
+// The stabilizer leaves out islands at rest (plugin/stabilizer/IslandRestCache.h): an island that starts a step bit
+// for bit as it started the last one gets the last projection's result back. Each test runs two identical worlds in
+// lockstep, one whose stabilizer may replay and one whose kept results are forgotten before every step
+// (setSettings(getSettings())), and asserts that the two stay identical to the bit — the replay is exact, whatever
+// the scene does — and that the replay happens where the scene is at rest and not where anything changes.
+#include "support/StabilizerScene.h"
+
+#include <gtest/gtest.h>
+
+#include <cstring>
+#include <functional>
+#include <vector>
+
+using namespace qh_test;
+
+namespace
+{
+// Hanging chains (links straight down from the world, hinge axes alternating z and x), at rest from the start.
+struct RestWorld
+{
+	StabilizerScene scene;
+	btQuaternionHingeStabilizer stabilizer;
+	std::vector<btRigidBody*> links;
+
+	RestWorld(int chains, int linksPerChain, bool withLimits)
+	{
+		for (int c = 0; c < chains; ++c)
+		{
+			btRigidBody* previous = nullptr;
+			for (int i = 0; i < linksPerChain; ++i)
+			{
+				const btVector3 centre(btScalar(c), btScalar(-0.25 - 0.5 * i), 0);
+				btRigidBody* link = scene.box(btVector3(btScalar(0.05), btScalar(0.25), btScalar(0.05)), 1, centre);
+				const btVector3 axis = i % 2 == 0 ? btVector3(0, 0, 1) : btVector3(1, 0, 0);
+				btQuaternionHingeConstraint* joint =
+					previous ? scene.hinge(*previous, *link, btVector3(0, btScalar(-0.25), 0),
+										   btVector3(0, btScalar(0.25), 0), axis, axis)
+							 : scene.hingeToWorld(*link, btVector3(0, btScalar(0.25), 0), axis);
+				if (withLimits) joint->setLimit(btScalar(-0.5), btScalar(0.5));
+				links.push_back(link);
+				previous = link;
+			}
+		}
+		scene.addAction(&stabilizer);
+	}
+	void step() { scene.world().stepSimulation(kTimeStep, 0, kTimeStep); }
+};
+
+// Every link's pose, velocities and Bullet's world inverse inertia, as bytes.
+std::vector<unsigned char> state(const RestWorld& w)
+{
+	std::vector<unsigned char> bytes;
+	auto add = [&bytes](const btVector3& v) {
+		const btScalar xyz[3] = {v.x(), v.y(), v.z()};
+		const unsigned char* p = reinterpret_cast<const unsigned char*>(xyz);
+		bytes.insert(bytes.end(), p, p + sizeof(xyz));
+	};
+	for (const btRigidBody* b : w.links)
+	{
+		const btTransform& t = b->getCenterOfMassTransform();
+		for (int r = 0; r < 3; ++r) add(t.getBasis()[r]);
+		add(t.getOrigin());
+		for (int r = 0; r < 3; ++r) add(b->getInvInertiaTensorWorld()[r]);
+		add(b->getLinearVelocity());
+		add(b->getAngularVelocity());
+		const btTransform& i = b->getInterpolationWorldTransform();
+		for (int r = 0; r < 3; ++r) add(i.getBasis()[r]);
+		add(i.getOrigin());
+		add(b->getInterpolationLinearVelocity());
+		add(b->getInterpolationAngularVelocity());
+	}
+	return bytes;
+}
+
+// Runs `steps` steps of two copies in lockstep (the second forgets its kept results before each step); `disturb`
+// (step index, world) is applied to both before each step. Returns the replaying world's resting-island count
+// summed over the steps; fails the test on the first step at which the two differ.
+int lockstep(int chains, int links, bool limits, int steps, const std::function<void(int, RestWorld&)>& disturb)
+{
+	RestWorld replaying(chains, links, limits), projecting(chains, links, limits);
+	int resting = 0;
+	for (int i = 0; i < steps; ++i)
+	{
+		disturb(i, replaying);
+		disturb(i, projecting);
+		projecting.stabilizer.setSettings(projecting.stabilizer.getSettings());  // forgets what it kept
+		replaying.step();
+		projecting.step();
+		resting += replaying.stabilizer.getLastStats().restingIslands;
+		EXPECT_EQ(projecting.stabilizer.getLastStats().restingIslands, 0);
+		if (state(replaying) != state(projecting))
+		{
+			ADD_FAILURE() << "the replaying world left the projecting one at step " << i;
+			break;
+		}
+	}
+	return resting;
+}
+
+void nothing(int, RestWorld&) {}
+}  // namespace
+
+TEST(StabilizerRest, HangingChainsAtRestAreReplayedToTheBit)
+{
+	// 4 chains of 10 links kept awake: after a few steps every step is a replay, and the result is the projection's.
+	RestWorld w(4, 10, false);
+	for (int i = 0; i < 60; ++i) w.step();
+	const btQuaternionHingeStabilizerStats& stats = w.stabilizer.getLastStats();
+	EXPECT_EQ(stats.islands, 4);
+	EXPECT_EQ(stats.restingIslands, 4);
+	EXPECT_EQ(stats.factorizations, 0);
+	EXPECT_EQ(stats.solves, 0);
+	EXPECT_LE(stats.residualAfter, kResidualTolerance);  // m: the replayed pose is the projected one
+	double separation = 0, misalignmentDeg = 0;
+	w.scene.jointErrors(separation, misalignmentDeg);
+	EXPECT_LE(separation, kSeparationTolerance);
+	EXPECT_LE(misalignmentDeg, kMisalignmentToleranceDeg);
+	EXPECT_GT(lockstep(4, 10, false, 120, nothing), 0);
+}
+
+TEST(StabilizerRest, LimitedChainsAtRestAreReplayedToTheBit)
+{
+	// with a limit on every joint the projection also reads each joint's multi-turn angle
+	EXPECT_GT(lockstep(2, 6, true, 120, nothing), 0);
+}
+
+// A state for a projection to work on: every link 1 mm lower and falling at 5 cm/s (the solver's sag at rest).
+struct BodyState
+{
+	btTransform pose;
+	btVector3 linear, angular;
+};
+std::vector<BodyState> sagged(const RestWorld& w)
+{
+	std::vector<BodyState> out;
+	for (const btRigidBody* b : w.links)
+	{
+		btTransform t = b->getCenterOfMassTransform();
+		t.getOrigin() += btVector3(0, btScalar(-1e-3), 0);
+		out.push_back({t, btVector3(0, btScalar(-0.05), 0), btVector3(0, 0, 0)});
+	}
+	return out;
+}
+void setState(RestWorld& w, const std::vector<BodyState>& s)
+{
+	for (size_t i = 0; i < s.size(); ++i)
+	{
+		btRigidBody& b = *w.links[i];
+		b.setCenterOfMassTransform(s[i].pose);
+		b.setLinearVelocity(s[i].linear);
+		b.setAngularVelocity(s[i].angular);
+		b.setInterpolationLinearVelocity(s[i].linear);
+		b.setInterpolationAngularVelocity(s[i].angular);
+	}
+}
+
+TEST(StabilizerRest, EveryInputOfTheProjectionIsCompared)
+{
+	// Two identical worlds are projected from the same sagged state; then each is put back in that state with one
+	// input of the projection changed and projected again. The replaying world must see the change (and project),
+	// so both end to the bit the same. Without a change it replays (the control).
+	const btScalar bump = btScalar(1e-4);
+	const std::function<void(RestWorld&)> changes[] = {
+		[](RestWorld&) {},  // the control
+		[&](RestWorld& w) { w.links[3]->setLinearVelocity(w.links[3]->getLinearVelocity() + btVector3(bump, 0, 0)); },
+		[&](RestWorld& w) { w.links[3]->setAngularVelocity(btVector3(0, bump, 0)); },
+		[&](RestWorld& w) {
+			btTransform t = w.links[4]->getCenterOfMassTransform();
+			t.getOrigin() += btVector3(0, 0, bump);
+			w.links[4]->setCenterOfMassTransform(t);
+		},
+		[&](RestWorld& w) {
+			btTransform t = w.links[4]->getCenterOfMassTransform();
+			t.setRotation(btQuaternion(btVector3(0, 1, 0), bump) * t.getRotation());
+			w.links[4]->setCenterOfMassTransform(t);
+		},
+		[&](RestWorld& w) {
+			btQuaternionHingeConstraint* j = w.scene.hinges()[2];
+			btTransform frameB = j->getFrameOffsetB();
+			frameB.getOrigin() += btVector3(bump, 0, 0);
+			j->setFrames(j->getFrameOffsetA(), frameB);
+		},
+		[&](RestWorld& w) {
+			btQuaternionHingeConstraint* j = w.scene.hinges()[2];
+			btTransform frameA = j->getFrameOffsetA();
+			frameA.getOrigin() += btVector3(0, 0, bump);
+			j->setFrames(frameA, j->getFrameOffsetB());
+		},
+		[](RestWorld& w) { w.links[5]->setMassProps(2, w.links[5]->getLocalInertia()); },  // the mass alone
+		[](RestWorld& w) { w.links[5]->setMassProps(1, w.links[5]->getLocalInertia() * 3); },
+		[](RestWorld& w) { w.links[5]->setLinearFactor(btVector3(1, 1, 0)); },
+		[](RestWorld& w) { w.links[5]->setAngularFactor(btVector3(0, 1, 1)); },
+		// the limits: a stop the sag now crosses (link 1 turned past it first)
+		[](RestWorld& w) { w.scene.hinges()[1]->setLimit(btScalar(0.01), btScalar(0.5)); },
+	};
+	int index = 0;
+	for (const auto& change : changes)
+	{
+		RestWorld replaying(1, 6, true), projecting(1, 6, true);
+		for (int i = 0; i < 30; ++i)
+		{
+			replaying.step();
+			projecting.step();
+		}
+		const std::vector<BodyState> start = sagged(replaying);
+		for (RestWorld* w : {&replaying, &projecting})
+		{
+			setState(*w, start);
+			w->stabilizer.stabilize(&w->scene.world(), kTimeStep);
+			setState(*w, start);
+			change(*w);
+		}
+		projecting.stabilizer.setSettings(projecting.stabilizer.getSettings());  // forgets what it kept
+		replaying.stabilizer.stabilize(&replaying.scene.world(), kTimeStep);
+		projecting.stabilizer.stabilize(&projecting.scene.world(), kTimeStep);
+		EXPECT_GT(projecting.stabilizer.getLastStats().factorizations, 0) << "change " << index;
+		EXPECT_EQ(replaying.stabilizer.getLastStats().restingIslands, index == 0 ? 1 : 0) << "change " << index;
+		EXPECT_TRUE(state(replaying) == state(projecting)) << "change " << index;
+		++index;
+	}
+}
+
+TEST(StabilizerRest, AnythingThatChangesIsProjectedAgain)
+{
+	// Each change below alters one input of the projection while the chains rest; the replaying world must project
+	// it (or the lockstep comparison fails) and must go back to replaying once the chains rest again.
+	const std::function<void(int, RestWorld&)> changes[] = {
+		// a push far below the velocity tolerance (1e-9 m/s)
+		[](int i, RestWorld& w) {
+			if (i == 60) w.links[3]->applyCentralImpulse(btVector3(btScalar(1e-9), 0, 0));
+		},
+		// the joint's frame in B moved by one unit in the last place
+		[](int i, RestWorld& w) {
+			if (i != 60) return;
+			btQuaternionHingeConstraint* j = w.scene.hinges()[2];
+			btTransform frameB = j->getFrameOffsetB();
+			frameB.getOrigin().setX(std::nextafter(frameB.getOrigin().x(), btScalar(1)));
+			j->setFrames(j->getFrameOffsetA(), frameB);
+		},
+		// a heavier link
+		[](int i, RestWorld& w) {
+			if (i == 60) w.links[5]->setMassProps(2, w.links[5]->getLocalInertia() * 2);
+		},
+		// a changed limit
+		[](int i, RestWorld& w) {
+			if (i == 60) w.scene.hinges()[1]->setLimit(btScalar(-0.4), btScalar(0.6));
+		},
+	};
+	for (const auto& change : changes)
+	{
+		const int resting = lockstep(2, 6, true, 200, change);
+		EXPECT_GT(resting, 0);
+	}
+}
