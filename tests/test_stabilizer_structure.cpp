@@ -9,6 +9,8 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cstddef>
+#include <new>
 #include <iostream>
 #include <vector>
 
@@ -311,6 +313,40 @@ TEST(Stabilizer, AngularOnlyHingeKeepsItsAxesAligned)
 	const btVector3 pa = (a->getCenterOfMassTransform() * h->getAFrame()).getOrigin();
 	const btVector3 pb = (b->getCenterOfMassTransform() * h->getBFrame()).getOrigin();
 	EXPECT_GT((pa - pb).length(), btScalar(0.5));
+}
+
+TEST(Stabilizer, AConstraintMadeAtAnOldOnesAddressIsSeenForWhatItIs)
+{
+	// The stabilizer keeps which of the world's constraints are quaternion hinges. A stock hinge removed, destroyed
+	// and replaced by a quaternion hinge at the same address and index must be projected; and the other way round,
+	// the stock hinge that takes a quaternion hinge's place must not be.
+	StabilizerScene scene;
+	btQuaternionHingeStabilizer stabilizer;
+	btRigidBody* link = scene.box(btVector3(btScalar(0.05), btScalar(0.25), btScalar(0.05)), 1, btVector3(0, -1, 0));
+	const btVector3 pivot(0, btScalar(0.25), 0), axis(0, 0, 1);
+	alignas(16) static unsigned char storage[sizeof(btHingeConstraint) > sizeof(btQuaternionHingeConstraint)
+												 ? sizeof(btHingeConstraint)
+												 : sizeof(btQuaternionHingeConstraint)];
+	btTypedConstraint* stock = new (storage) btHingeConstraint(*link, pivot, axis);
+	scene.world().addConstraint(stock);
+	EXPECT_EQ(stabilizer.stabilize(&scene.world(), kTimeStep).joints, 0);
+	scene.world().removeConstraint(stock);
+	stock->~btTypedConstraint();
+	btQuaternionHingeConstraint* hinge = new (storage) btQuaternionHingeConstraint(*link, pivot, axis);
+	ASSERT_EQ(static_cast<void*>(hinge), static_cast<void*>(storage));
+	scene.world().addConstraint(hinge);
+	link->setCenterOfMassTransform(btTransform(btQuaternion::getIdentity(), btVector3(btScalar(0.01), -1, 0)));
+	const btQuaternionHingeStabilizerStats& stats = stabilizer.stabilize(&scene.world(), kTimeStep);
+	EXPECT_EQ(stats.joints, 1);
+	EXPECT_GT(stats.residualBefore, btScalar(0.009));  // m: the 1 cm the link was put off its pivot
+	EXPECT_LE(stats.residualAfter, kResidualTolerance);
+	scene.world().removeConstraint(hinge);
+	hinge->~btQuaternionHingeConstraint();
+	stock = new (storage) btHingeConstraint(*link, pivot, axis);
+	scene.world().addConstraint(stock);
+	EXPECT_EQ(stabilizer.stabilize(&scene.world(), kTimeStep).joints, 0);
+	scene.world().removeConstraint(stock);
+	stock->~btTypedConstraint();
 }
 
 #endif  // QUATHINGE_HAVE_STABILIZER

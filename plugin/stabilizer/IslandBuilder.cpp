@@ -21,18 +21,32 @@ bool isMovable(const btRigidBody& body)
 		   (body.getInvMass() > 0 || !body.getInvInertiaDiagLocal().isZero());
 }
 
-void scanWorld(btDynamicsWorld& world, bool projectLimits, Array<SignatureEntry>& out)
+void scanWorld(btDynamicsWorld& world, bool projectLimits, UpcastCache& upcasts, Array<SignatureEntry>& out)
 {
 	out.clear();
 	const int n = world.getNumConstraints();
+	upcasts.constraints.resize(size_t(n), nullptr);
+	upcasts.hinges.resize(size_t(n), nullptr);
 	for (int i = 0; i < n; ++i)
 	{
 		btTypedConstraint* c = world.getConstraint(i);
-		btQuaternionHingeConstraint* hinge = btQuaternionHingeConstraint::upcast(c);
+		// upcast's dynamic_cast once per constraint in the world, not once per step (in a world of sleeping ragdolls
+		// it was most of the stabilizer's time): its answer is kept while the same address is at index i and its type
+		// number still agrees with it (a constraint deleted and another made at its address and index is cast again
+		// unless it has the same type number as the old one: a quaternion hinge for a quaternion hinge, or another
+		// plugin's constraint claiming QUATERNION_HINGE_CONSTRAINT_TYPE for a quaternion hinge, which upcast's own
+		// comment rules out).
+		btQuaternionHingeConstraint* hinge;
+		const bool isHingeType = c->getConstraintType() == QUATERNION_HINGE_CONSTRAINT_TYPE;
+		if (upcasts.constraints[size_t(i)] == c && (upcasts.hinges[size_t(i)] != nullptr) == isHingeType)
+			hinge = upcasts.hinges[size_t(i)];
+		else
+		{
+			hinge = btQuaternionHingeConstraint::upcast(c);
+			upcasts.constraints[size_t(i)] = c;
+			upcasts.hinges[size_t(i)] = hinge;
+		}
 		if (!hinge || !c->isEnabled()) continue;
-		// a faulted joint (refused frame edit, bad body state) re-enabled with setEnabled(true) instead of
-		// clearFault(): the solver gets no rows from it, and the stabilizer must not project onto its refused frame
-		if (hinge->getFault() != BT_QHINGE_FAULT_NONE) continue;
 		SignatureEntry e;
 		e.joint = hinge;
 		e.body[0] = &hinge->getRigidBodyA();
@@ -41,6 +55,9 @@ void scanWorld(btDynamicsWorld& world, bool projectLimits, Array<SignatureEntry>
 		if (isMovable(*e.body[0])) e.flags |= SignatureEntry::kMovableA;
 		if (isMovable(*e.body[1])) e.flags |= SignatureEntry::kMovableB;
 		if (!(e.flags & (SignatureEntry::kMovableA | SignatureEntry::kMovableB))) continue;
+		// a faulted joint (refused frame edit, bad body state) re-enabled with setEnabled(true) instead of
+		// clearFault(): the solver gets no rows from it, and the stabilizer must not project onto its refused frame
+		if (hinge->getFault() != BT_QHINGE_FAULT_NONE) continue;
 		if (hinge->getAngularOnly()) e.flags |= SignatureEntry::kAngularOnly;
 		if (projectLimits && hinge->getSettings().hasLimit) e.flags |= SignatureEntry::kLimitSlot;
 		out.push_back(e);

@@ -59,8 +59,15 @@ struct SignatureEntry
 /// Dynamic, active, with some inverse mass or inertia: the stabilizer may move it.
 bool isMovable(const btRigidBody& body);
 
+/// The world's constraints as last scanned, and which of them are quaternion hinges (null: another type).
+struct UpcastCache
+{
+	Array<btTypedConstraint*> constraints;
+	Array<btQuaternionHingeConstraint*> hinges;
+};
+
 /// Appends the world's enabled quaternion hinges with a movable body, in constraint order, to out (cleared first).
-void scanWorld(btDynamicsWorld& world, bool projectLimits, Array<SignatureEntry>& out);
+void scanWorld(btDynamicsWorld& world, bool projectLimits, UpcastCache& upcasts, Array<SignatureEntry>& out);
 
 struct IslandBody
 {

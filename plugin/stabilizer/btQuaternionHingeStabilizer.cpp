@@ -24,6 +24,7 @@ struct btQuaternionHingeStabilizer::Impl
 	BT_DECLARE_ALIGNED_ALLOCATOR();
 	Array<SignatureEntry> signature;  // the scan the islands were built from
 	Array<SignatureEntry> scan;       // this step's scan (kept to avoid allocating)
+	UpcastCache upcasts;              // which of the world's constraints are quaternion hinges
 	Array<std::unique_ptr<Island>> islands;
 	bool built = false;
 };
@@ -90,6 +91,7 @@ void btQuaternionHingeStabilizer::invalidateStructure()
 {
 	m_impl->islands.clear();
 	m_impl->signature.clear();
+	m_impl->upcasts = UpcastCache();
 	m_impl->built = false;
 }
 
@@ -111,7 +113,7 @@ const btQuaternionHingeStabilizerStats& btQuaternionHingeStabilizer::stabilize(b
 	m_stats = btQuaternionHingeStabilizerStats();
 
 	Impl& impl = *m_impl;
-	scanWorld(*world, m_settings.projectLimits, impl.scan);
+	scanWorld(*world, m_settings.projectLimits, impl.upcasts, impl.scan);
 	if (!impl.built || impl.scan.size() != impl.signature.size() ||
 		!std::equal(impl.scan.begin(), impl.scan.end(), impl.signature.begin()))
 	{
