@@ -25,13 +25,16 @@ void loadInverseMass(IslandBody& b, const Island& island)
 	const btVector3& af = body.getAngularFactor();
 	const btVector3& invLocal = body.getInvInertiaDiagLocal();
 	const btMatrix3x3& basis = body.getCenterOfMassTransform().getBasis();
-	const double invMass = body.getInvMass() / (1 + body.getInvMass() * massRef);
+	// the weighted and stiff metrics: a body pressed against something the projection does not see takes a small
+	// share of the correction (contactScale); M itself (the velocities, the end of the position stage) is M
+	const double contact = (island.rotationWeight != 1 || island.stiffMetric) ? b.contactScale : 1;
+	const double invMass = contact * body.getInvMass() / (1 + body.getInvMass() * massRef);
 	Eigen::Vector3d invInertiaLocal;
 	Eigen::Matrix3d sr;  // S R
 	for (int i = 0; i < 3; ++i)
 	{
 		b.invMass[i] = invMass * body.getLinearFactor()[i];
-		invInertiaLocal[i] = invLocal[i] / ((1 + invLocal[i] * inertiaRef) * island.rotationWeight);
+		invInertiaLocal[i] = contact * invLocal[i] / ((1 + invLocal[i] * inertiaRef) * island.rotationWeight);
 		for (int j = 0; j < 3; ++j) sr(i, j) = double(af[i]) * double(basis[i][j]);
 	}
 	b.invInertia.noalias() = sr * invInertiaLocal.asDiagonal() * sr.transpose();

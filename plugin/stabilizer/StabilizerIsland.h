@@ -76,6 +76,8 @@ struct IslandBody
 	Eigen::Matrix3d invInertia;  // S I⁻¹_world S, S = diag(angular factor)
 	Eigen::Matrix<double, 6, 1> delta;  // accumulated M⁻¹ Jᵀ λ: linear, then angular (world)
 	btTransform saved;                  // the transform before the last Newton step (for backtracking)
+	// This step: 1, or kContactWeight when the body touches something outside its island (IslandBodies.cpp)
+	double contactScale = 1;
 };
 
 /// J of one joint in R-row blocks (the block's storage rows, BlockShape, are zero).

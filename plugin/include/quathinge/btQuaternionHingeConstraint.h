@@ -366,6 +366,12 @@ private:
 	bool m_limitIsOneTurn;  // the last setLimit gave a range of exactly one turn: reported by hasLimit(), never acts
 };
 
+/// Puts `replacement` in `world` in place of `constraint`: removes it and adds the replacement with the same
+/// disableCollisionsBetweenLinkedBodies choice as far as the world can tell it (addConstraint(c, true) registers c
+/// with its bodies). Deletes nothing. (btReplaceHingeConstraints and btQuaternionHingeWorldImporter swap through it.)
+QUATHINGE_API void btSwapConstraintInWorld(btDynamicsWorld * world, btTypedConstraint * constraint,
+										   btTypedConstraint * replacement);
+
 /// Replaces every btHingeConstraint in `world` by its equivalent btQuaternionHingeConstraint (same place in the
 /// world's constraint list order is not kept: each is removed and the replacement added, with the same
 /// disableCollisionsBetweenLinkedBodies choice as far as the world can tell it). Returns how many it replaced.
@@ -374,12 +380,6 @@ private:
 /// the world and deletes them (before the bodies go). The removed stock hinges stay with whoever allocated them: each
 /// is appended to *removedStock (if not null), so the caller can delete the ones it allocated itself; hinges a
 /// btBulletWorldImporter loaded are deleted by its deleteAllData() (deleting them here as well was a double free).
-/// Puts `replacement` in `world` in place of `constraint`: removes it and adds the replacement with the same
-/// disableCollisionsBetweenLinkedBodies choice as far as the world can tell it (addConstraint(c, true) registers c
-/// with its bodies). Deletes nothing. (btReplaceHingeConstraints and btQuaternionHingeWorldImporter swap through it.)
-QUATHINGE_API void btSwapConstraintInWorld(btDynamicsWorld * world, btTypedConstraint * constraint,
-										   btTypedConstraint * replacement);
-
 QUATHINGE_API int btReplaceHingeConstraints(btDynamicsWorld * world, btAlignedObjectArray<btQuaternionHingeConstraint*>* added = 0,
 							  btAlignedObjectArray<btHingeConstraint*>* removedStock = 0);
 
