@@ -46,6 +46,7 @@ void gatherInputs(const Island& island, btScalar timeStep, Array<btScalar>& out)
 		g.add(body.getInvInertiaDiagLocal());
 		g.add(body.getLinearFactor());
 		g.add(body.getAngularFactor());
+		g.add(btScalar(b.contactScale));  // whether it touches something outside the island (IslandBodies.cpp)
 	}
 	for (const JointSlot& js : island.joints)
 	{
