@@ -1,15 +1,15 @@
 // An island at rest gets the last step's projection back (issue 15, "leave out").
 //
 // The projection (Q13, Q14: IslandProjection.cpp) is a deterministic function of what it reads: the island bodies'
-// poses, velocities, masses, inertias, linear/angular factors and contact flags, the fixed partners' poses and velocities, each
-// joint's frames, flags, limit and multi-turn angle, the step and the stabilizer's settings. A chain hanging still
-// under Bullet's solver reaches a fixed point to the bit: the solver, which does not warm-start joint rows, lets it
-// sag by the same amount every step (measured on 50 chains of 10 links at 60 Hz: 9.8e-4 m and 5.9e-2 m/s, every
-// step), and the projection lifts it back to the same state. When every one of those inputs equals, bit for bit,
+// poses, velocities, masses, inertias, linear/angular factors and contact flags, the fixed partners' poses and
+// velocities, each joint's frames, flags, limit and multi-turn angle, the step and the stabilizer's settings. A chain
+// hanging still under Bullet's solver reaches a fixed point to the bit: the solver, which does not warm-start joint
+// rows, lets it sag by the same amount every step (measured on 50 chains of 10 links at 60 Hz: 9.8e-4 m and 5.9e-2 m/s,
+// every step), and the projection lifts it back to the same state. When every one of those inputs equals, bit for bit,
 // what the projection read at the last step's start, its result is the last step's: it is applied as the projection
-// applied it (the same poses, the same inertia refresh, the same velocities) without a factorization, a row or a
-// solve. Exact by construction — nothing is approximated and nothing that moves, however slowly, is held (any changed
-// bit runs the projection). The check reads about 30 numbers per body and per joint; nothing is allocated after the
+// applied it (the same poses, the same inertia refresh, the same velocities) without a factorization, a row or a solve.
+// Exact by construction — nothing is approximated and nothing that moves, however slowly, is held (any changed bit runs
+// the projection). The check reads about 30 numbers per body and per joint; nothing is allocated after the
 // island's first step.
 #ifndef QUATHINGE_STABILIZER_ISLAND_REST_CACHE_H
 #define QUATHINGE_STABILIZER_ISLAND_REST_CACHE_H
