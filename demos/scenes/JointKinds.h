@@ -7,8 +7,11 @@
 
 #include "SceneSpec.h"
 
+#include <functional>
 #include <string>
 #include <vector>
+
+class btDiscreteDynamicsWorld;
 
 namespace quathinge
 {
@@ -44,6 +47,9 @@ struct RunSettings
 	std::string referenceExe;
 	std::string sceneArgument, modelsDir;
 	unsigned seed = 1;
+	/// Called with the world once it is built, before the first step (the row-basis sweep sets the joints' basis
+	/// there); not for the fine-step reference.
+	std::function<void(btDiscreteDynamicsWorld&)> prepare;
 };
 
 /// The fine-step reference trajectory: the scene with `kind` at dt/16 and 100 iterations, every body's position after
@@ -83,6 +89,9 @@ struct Metrics
 	std::string reference;               ///< which reference trajectoryError uses
 	double recoveryTime = -1;            ///< s after which every joint's misalignment stays below 1°; −1 if never
 	double limitViolation = -1;          ///< rad, worst excursion past a limit (θ from the frames); −1: no limits
+	/// rad: Gazebo's out-of-plane angle, the largest |pitch| or |yaw| (ZYX Euler angles of a body's world
+	/// orientation) over bodies and steps, for scenes that ask for it (SceneSpec::outOfPlaneBound); −1 otherwise
+	double maxOutOfPlaneRad = -1;
 	double finalTheta = 0;               ///< rad, the first joint's continuous θ at the end (from the frames)
 	/// max (E − E₀) / energy scale over the run, every scene (drives and contacts included): what the runaway test reads
 	double maxEnergyGain = 0;
