@@ -28,12 +28,57 @@
 #ifndef QUATHINGE_SOLVER_ROW_BASIS_H
 #define QUATHINGE_SOLVER_ROW_BASIS_H
 
+#include "InputChecks.h"
 #include "LinearMath/btMatrix3x3.h"
 #include "LinearMath/btVector3.h"
 #include "MatrixLanes.h"
+#include "quathinge/btQuaternionHingeConstraint.h"
 
 namespace quathinge
 {
+/// The bases the bilateral rows can be written in (docs/ROW_BASIS.md compares them). Every one is a change of the
+/// rows' basis held for the step: the same constraint, converged on differently by Gauss–Seidel.
+enum class RowBasis : int
+{
+	Radial = 0,     ///< the default: p, t, a (pointRowBasis below), quaternion rows turned so u' lies along p
+	World = 1,      ///< point rows along world x, y, z; quaternion rows as derived (u, v)
+	Heavy = 2,      ///< p, t, a from the heavier dynamic body's arm alone (as Radial when one side is static)
+	Decoupled = 3,  ///< Radial's five rows turned into the eigenvectors of the joint's own K = J M⁻¹ Jᵀ (5×5 diagonal)
+	JointFrame = 4, ///< point rows along joint frame A's x, y, z; quaternion rows as derived (u ≈ x̂, v ≈ ŷ)
+	Count = 5
+};
+inline const char* rowBasisName(RowBasis basis)
+{
+	switch (basis)
+	{
+		case RowBasis::Radial: return "radial";
+		case RowBasis::World: return "world";
+		case RowBasis::Heavy: return "heavy";
+		case RowBasis::Decoupled: return "decoupled";
+		case RowBasis::JointFrame: return "jointframe";
+		case RowBasis::Count: break;
+	}
+	return "?";
+}
+
+/// The in-tree hook that sets a joint's row basis and order (the sweep, demos/sweep, and tests). Not public API: the
+/// basis is the library's choice of how to present one constraint to the solver, not a setting of the joint, so it is
+/// neither in btQuaternionHingeSettings nor serialized. Refuses a value outside RowBasis as the setters refuse
+/// theirs (InputChecks.h: thrown, or reported and false returned) and then changes nothing.
+struct SolverRowBasisAccess
+{
+	static bool set(btQuaternionHingeConstraint& joint, RowBasis basis, bool angularRowsFirst)
+	{
+		const int value = int(basis);
+		if (value < 0 || value >= int(RowBasis::Count))
+			return check::fail("quathinge::SolverRowBasisAccess::set", "basis", "is not a RowBasis", btScalar(value));
+		joint.m_rowBasis = value;
+		joint.m_angularRowsFirst = angularRowsFirst;
+		return true;
+	}
+	static RowBasis basis(const btQuaternionHingeConstraint& joint) { return RowBasis(joint.m_rowBasis); }
+	static bool angularRowsFirst(const btQuaternionHingeConstraint& joint) { return joint.m_angularRowsFirst; }
+};
 /// The three point-row directions (world, orthonormal, right-handed: t = a × p, p = t × a), as SIMD lanes
 /// (MatrixLanes.h: the same operations as btVector3's, so the same bits).
 struct PointRowBasis
