@@ -210,8 +210,10 @@ int btQuaternionHingeConstraint::fillBilateralRows(btConstraintInfo2* info, cons
 	const Lanes rA = pivotA - lanesOf(transA.getOrigin());
 	const Lanes rB = pivotB - lanesOf(transB.getOrigin());
 	// The default basis (RowBasis::Radial) unless the row-basis study hook chose another (SolverRowBasis.h).
-	const RowBasis rowBasis = RowBasis(m_rowBasis);
 	const btScalar invMassA = m_rbA.getInvMass(), invMassB = m_rbB.getInvMass();
+	RowBasis rowBasis = RowBasis(m_rowBasis);
+	if (rowBasis == RowBasis::TurnedAtStatic)
+		rowBasis = invMassA > btScalar(0) && invMassB > btScalar(0) ? RowBasis::RadialUnturned : RowBasis::Radial;
 	const Lanes hingeAxis = lanesOf(pose.axesA[2]);
 	PointRowBasis basis;
 	if (rowBasis == RowBasis::World)
@@ -233,7 +235,8 @@ int btQuaternionHingeConstraint::fillBilateralRows(btConstraintInfo2* info, cons
 		basis = pointRowBasis(pose.axesA, rA, rB, invMassA, invMassB);
 	// World has no row along the hinge axis; the others' third row is the axis.
 	const bool axisRow = rowBasis != RowBasis::World;
-	const bool turnQuaternionRows = rowBasis != RowBasis::World && rowBasis != RowBasis::JointFrame;
+	const bool turnQuaternionRows =
+		rowBasis != RowBasis::World && rowBasis != RowBasis::JointFrame && rowBasis != RowBasis::RadialUnturned;
 
 	// Quaternion part (Q7, Q9, Q10; the log form beyond 90°, Q12): body A −g, body B +g, error −erp·fps·C; for the
 	// solver turned within the part's plane so the first row lies along p (SolverRowBasis.h). Written after the point

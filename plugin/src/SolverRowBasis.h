@@ -45,7 +45,10 @@ enum class RowBasis : int
 	Heavy = 2,      ///< p, t, a from the heavier dynamic body's arm alone (as Radial when one side is static)
 	Decoupled = 3,  ///< Radial's five rows turned into the eigenvectors of the joint's own K = J M⁻¹ Jᵀ (5×5 diagonal)
 	JointFrame = 4, ///< point rows along joint frame A's x, y, z; quaternion rows as derived (u ≈ x̂, v ≈ ŷ)
-	Count = 5
+	RadialUnturned = 5,  ///< Radial's point rows with the quaternion rows as derived (not turned toward p)
+	/// per joint: Radial where one side is static, RadialUnturned between two dynamic bodies
+	TurnedAtStatic = 6,
+	Count = 7
 };
 inline const char* rowBasisName(RowBasis basis)
 {
@@ -56,6 +59,8 @@ inline const char* rowBasisName(RowBasis basis)
 		case RowBasis::Heavy: return "heavy";
 		case RowBasis::Decoupled: return "decoupled";
 		case RowBasis::JointFrame: return "jointframe";
+		case RowBasis::RadialUnturned: return "radial-unturned";
+		case RowBasis::TurnedAtStatic: return "turned-at-static";
 		case RowBasis::Count: break;
 	}
 	return "?";
