@@ -32,7 +32,7 @@ const btScalar kLimitSlack = btScalar(0.1);              // rad: how far past a 
 #ifdef BT_USE_DOUBLE_PRECISION
 const std::uint64_t kExpectedHash = 0x35456df354c2009dULL;
 #else
-const std::uint64_t kExpectedHash = 0xa0e501f6f8488852ULL;
+const std::uint64_t kExpectedHash = 0x4de322a6e5c24663ULL;
 #endif
 
 // 64-bit FNV-1a.

@@ -213,7 +213,7 @@ int btQuaternionHingeConstraint::fillBilateralRows(btConstraintInfo2* info, cons
 	const btScalar invMassA = m_rbA.getInvMass(), invMassB = m_rbB.getInvMass();
 	RowBasis rowBasis = RowBasis(m_rowBasis);
 	if (rowBasis == RowBasis::TurnedAtStatic)
-		rowBasis = invMassA > btScalar(0) && invMassB > btScalar(0) ? RowBasis::RadialUnturned : RowBasis::Radial;
+		rowBasis = invMassA > btScalar(0) && invMassB > btScalar(0) ? RowBasis::Radial : RowBasis::RadialTurned;
 	const Lanes hingeAxis = lanesOf(pose.axesA[2]);
 	PointRowBasis basis;
 	if (rowBasis == RowBasis::World)
@@ -235,20 +235,29 @@ int btQuaternionHingeConstraint::fillBilateralRows(btConstraintInfo2* info, cons
 		basis = pointRowBasis(pose.axesA, rA, rB, invMassA, invMassB);
 	// World has no row along the hinge axis; the others' third row is the axis.
 	const bool axisRow = rowBasis != RowBasis::World;
+	// Only the study bases turn the quaternion rows toward p (SolverRowBasis.h: the turn is what lost on the
+	// inertia-ratio pendulum).
 	const bool turnQuaternionRows =
-		rowBasis != RowBasis::World && rowBasis != RowBasis::JointFrame && rowBasis != RowBasis::RadialUnturned;
+		rowBasis == RowBasis::RadialTurned || rowBasis == RowBasis::Heavy || rowBasis == RowBasis::Decoupled;
 
-	// Quaternion part (Q7, Q9, Q10; the log form beyond 90°, Q12): body A −g, body B +g, error −erp·fps·C; for the
-	// solver turned within the part's plane so the first row lies along p (SolverRowBasis.h). Written after the point
-	// rows; computed first, as the point rows take a multiple of them (below).
+	// Quaternion part (Q7, Q9, Q10; the log form beyond 90°, Q12): body A −g, body B +g, error −erp·fps·C, as
+	// derived (only the study bases turn it within its plane so the first row lies along p, SolverRowBasis.h).
+	// Written after the point rows; computed first, as the point rows take a multiple of them (below).
 	AngularRows angular;
 	computeAngularRowsFromAxes(pose.axesA, pose.q, angular);
-	const Lanes rowU = lanesOf(angular.rowU), rowV = lanesOf(angular.rowV);
-	btScalar cosPsi = 1, sinPsi = 0;
-	if (turnQuaternionRows) quaternionRowTurn(rowU, rowV, basis.p, cosPsi, sinPsi);
-	const Lanes turnedU = rowU * cosPsi + rowV * sinPsi, turnedV = rowV * cosPsi - rowU * sinPsi;
-	const btScalar errorU = -errorScale(kAngularKind) * (cosPsi * angular.errorU + sinPsi * angular.errorV);
-	const btScalar errorV = -errorScale(kAngularKind + 1) * (cosPsi * angular.errorV - sinPsi * angular.errorU);
+	Lanes turnedU = lanesOf(angular.rowU), turnedV = lanesOf(angular.rowV);
+	btScalar errorU = -errorScale(kAngularKind) * angular.errorU;
+	btScalar errorV = -errorScale(kAngularKind + 1) * angular.errorV;
+	if (turnQuaternionRows)
+	{
+		const Lanes rowU = turnedU, rowV = turnedV;
+		btScalar cosPsi, sinPsi;
+		quaternionRowTurn(rowU, rowV, basis.p, cosPsi, sinPsi);
+		turnedU = rowU * cosPsi + rowV * sinPsi;
+		turnedV = rowV * cosPsi - rowU * sinPsi;
+		errorU = -errorScale(kAngularKind) * (cosPsi * angular.errorU + sinPsi * angular.errorV);
+		errorV = -errorScale(kAngularKind + 1) * (cosPsi * angular.errorV - sinPsi * angular.errorU);
+	}
 
 	// Rows in the order point, quaternion (the default) or quaternion, point (the study hook's angularRowsFirst).
 	const int pointFirstRow = m_angularRowsFirst ? 2 : 0;
