@@ -63,6 +63,9 @@ struct Analysis
 	double swingRate[4] = {0, 0, 0, 0};
 	double pivotSpeed[4] = {0, 0, 0, 0};
 	double intraCoupling = 0;        // largest |K_ij| / √(K_ii K_jj) between two rows of one joint
+	double angularPairCoupling = 0;  // the same between a joint's two angular rows (no linear part)
+	double pointAngularCoupling = 0; // the same between a joint's point row and angular row
+	double angularDiagonalRatio = 0; // largest K_uu / K_vv of a joint's two angular rows (≥ 1)
 	double interCoupling = 0;        // the same between rows of two joints
 	double blockCondition = 0;       // largest eigenvalue ratio of a joint's own block of K
 };
@@ -213,6 +216,20 @@ Analysis analyse(const SceneSpec& scene, const Variant& v, bool angularFirst, co
 		{
 			if (r == c || K[r][r] <= 0 || K[c][c] <= 0) continue;
 			const double coupling = std::fabs(K[r][c]) / std::sqrt(K[r][r] * K[c][c]);
+			auto angularRow = [&](size_t i) {
+				return rows[i].j[0] == 0 && rows[i].j[1] == 0 && rows[i].j[2] == 0 && rows[i].j[6] == 0 &&
+					   rows[i].j[7] == 0 && rows[i].j[8] == 0;
+			};
+			if (rows[r].joint == rows[c].joint)
+			{
+				if (angularRow(r) && angularRow(c))
+				{
+					out.angularPairCoupling = std::max(out.angularPairCoupling, coupling);
+					out.angularDiagonalRatio = std::max(out.angularDiagonalRatio, K[r][r] / K[c][c]);
+				}
+				else if (angularRow(r) != angularRow(c))
+					out.pointAngularCoupling = std::max(out.pointAngularCoupling, coupling);
+			}
 			if (rows[r].joint == rows[c].joint) out.intraCoupling = std::max(out.intraCoupling, coupling);
 			else out.interCoupling = std::max(out.interCoupling, coupling);
 		}
@@ -412,7 +429,8 @@ int main(int argc, char** argv)
 		csv << "scene,basis,order,sample_time_s,rows,gs_residual_10,gs_residual_50,gs_residual_250,"
 			   "swing_rate_10,swing_rate_50,swing_rate_250,swing_rate_exact,pivot_speed_10,pivot_speed_50,"
 			   "pivot_speed_250,pivot_speed_exact,"
-			   "max_intra_joint_coupling,max_inter_joint_coupling,max_joint_block_condition\n";
+			   "max_intra_joint_coupling,max_inter_joint_coupling,max_joint_block_condition,"
+			   "max_angular_pair_coupling,max_point_angular_coupling,max_angular_diagonal_ratio\n";
 		for (const std::string& name : sceneList)
 		{
 			const SceneSpec scene = makeScene(name, 1, models);
@@ -457,7 +475,10 @@ int main(int argc, char** argv)
 						for (int k = 0; k < 4; ++k) csv << fmt::format("{:.3e}", a.pivotSpeed[k]) << ',';
 						csv
 							<< fmt::format("{:.4f}", a.intraCoupling) << ',' << fmt::format("{:.4f}", a.interCoupling)
-							<< ',' << fmt::format("{:.4g}", a.blockCondition) << '\n';
+							<< ',' << fmt::format("{:.4g}", a.blockCondition) << ','
+							<< fmt::format("{:.4f}", a.angularPairCoupling) << ','
+							<< fmt::format("{:.4f}", a.pointAngularCoupling) << ','
+							<< fmt::format("{:.4g}", a.angularDiagonalRatio) << '\n';
 					}
 			}
 		}
