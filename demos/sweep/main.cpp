@@ -41,7 +41,7 @@ Variant parseVariant(const std::string& name)
 	if (name == "stock") return {name, true, RowBasis::Radial};
 	for (int b = 0; b < int(RowBasis::Count); ++b)
 		if (name == rowBasisName(RowBasis(b))) return {name, false, RowBasis(b)};
-	throw std::invalid_argument("unknown basis '" + name + "' (stock radial world heavy decoupled jointframe radial-turned turned-at-static)");
+	throw std::invalid_argument("unknown basis '" + name + "' (stock radial world heavy decoupled jointframe radial-turned turned-at-static radial-turned45 radial-turned90)");
 }
 
 void setBasis(btDiscreteDynamicsWorld& world, RowBasis basis, bool angularFirst)
@@ -402,7 +402,7 @@ int main(int argc, char** argv)
 	bool analysis = false;
 	app.add_option("-s,--scenes", sceneList, "scene names (quathinge-compare --list), inertia_ratio_<N> for the family")
 		->capture_default_str();
-	app.add_option("-b,--bases", basisList, "stock radial world heavy decoupled jointframe radial-turned turned-at-static")->capture_default_str();
+	app.add_option("-b,--bases", basisList, "stock radial world heavy decoupled jointframe radial-turned turned-at-static radial-turned45 radial-turned90")->capture_default_str();
 	app.add_option("--orders", orderList, "point-first angular-first")->capture_default_str();
 	app.add_option("-i,--iterations", iterationList, "solver iterations")->capture_default_str();
 	app.add_option("--dt", dt, "time step (s); default: the scene's own (SceneSpec::dt), else 1/60");

@@ -237,8 +237,9 @@ int btQuaternionHingeConstraint::fillBilateralRows(btConstraintInfo2* info, cons
 	const bool axisRow = rowBasis != RowBasis::World;
 	// Only the study bases turn the quaternion rows toward p (SolverRowBasis.h: the turn is what lost on the
 	// inertia-ratio pendulum).
-	const bool turnQuaternionRows =
-		rowBasis == RowBasis::RadialTurned || rowBasis == RowBasis::Heavy || rowBasis == RowBasis::Decoupled;
+	const bool turnQuaternionRows = rowBasis == RowBasis::RadialTurned || rowBasis == RowBasis::Heavy ||
+									rowBasis == RowBasis::Decoupled || rowBasis == RowBasis::RadialTurned45 ||
+									rowBasis == RowBasis::RadialTurned90;
 
 	// Quaternion part (Q7, Q9, Q10; the log form beyond 90°, Q12): body A −g, body B +g, error −erp·fps·C, as
 	// derived (only the study bases turn it within its plane so the first row lies along p, SolverRowBasis.h).
@@ -253,6 +254,15 @@ int btQuaternionHingeConstraint::fillBilateralRows(btConstraintInfo2* info, cons
 		const Lanes rowU = turnedU, rowV = turnedV;
 		btScalar cosPsi, sinPsi;
 		quaternionRowTurn(rowU, rowV, basis.p, cosPsi, sinPsi);
+		if (rowBasis == RowBasis::RadialTurned45 || rowBasis == RowBasis::RadialTurned90)
+		{
+			// a further turn by 45° or 90°: (c, s) ← (c cos β − s sin β, s cos β + c sin β)
+			const btScalar cb = rowBasis == RowBasis::RadialTurned90 ? btScalar(0) : SIMDSQRT12;
+			const btScalar sb = rowBasis == RowBasis::RadialTurned90 ? btScalar(1) : SIMDSQRT12;
+			const btScalar c = cosPsi * cb - sinPsi * sb, s = sinPsi * cb + cosPsi * sb;
+			cosPsi = c;
+			sinPsi = s;
+		}
 		turnedU = rowU * cosPsi + rowV * sinPsi;
 		turnedV = rowV * cosPsi - rowU * sinPsi;
 		errorU = -errorScale(kAngularKind) * (cosPsi * angular.errorU + sinPsi * angular.errorV);

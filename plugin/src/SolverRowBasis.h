@@ -54,7 +54,9 @@ enum class RowBasis : int
 	RadialTurned = 5,  ///< the default before issue 16: Radial with the quaternion rows turned so u' lies along p
 	/// per joint: RadialTurned where one side is static, Radial between two dynamic bodies
 	TurnedAtStatic = 6,
-	Count = 7
+	RadialTurned45 = 7,  ///< as RadialTurned, then turned 45° further in their plane (u' halfway between p and a × p)
+	RadialTurned90 = 8,  ///< as RadialTurned, then turned 90° further (u' along a × p)
+	Count = 9
 };
 inline const char* rowBasisName(RowBasis basis)
 {
@@ -67,6 +69,8 @@ inline const char* rowBasisName(RowBasis basis)
 		case RowBasis::JointFrame: return "jointframe";
 		case RowBasis::RadialTurned: return "radial-turned";
 		case RowBasis::TurnedAtStatic: return "turned-at-static";
+		case RowBasis::RadialTurned45: return "radial-turned45";
+		case RowBasis::RadialTurned90: return "radial-turned90";
 		case RowBasis::Count: break;
 	}
 	return "?";
