@@ -56,6 +56,40 @@ TEST(InertiaRatio, TheSceneIsGazebosWorld)
 	EXPECT_NEAR(double(f.bodies[1].mass / f.bodies[0].mass), 1000, 1e-2);
 }
 
+TEST(InertiaRatio, OutOfPlaneAngleIsGazebosEulerPitchAndYaw)
+{
+	// One weightless body hinged to the world about its own x axis, turned by yaw 0.05 then pitch 0.12 (ZYX: R =
+	// Rz(0.05) Ry(0.12)): nothing moves, so the measure must return the larger of |pitch| and |yaw|, 0.12 rad; with
+	// the pitch and yaw swapped, 0.12 again; the scene without a bound measures nothing (−1).
+	for (const bool swap : {false, true})
+	{
+		SceneSpec s;
+		s.name = "euler";
+		BodySpec body;
+		body.localInertia = btVector3(1, 1, 1);
+		const btScalar yaw = swap ? btScalar(0.12) : btScalar(0.05), pitch = swap ? btScalar(0.05) : btScalar(0.12);
+		body.pose.setBasis(btMatrix3x3(btQuaternion(btVector3(0, 0, 1), yaw) * btQuaternion(btVector3(0, 1, 0), pitch)));
+		s.bodies = {body};
+		JointSpec j;
+		j.parent = -1;
+		j.child = 0;
+		j.pivot = btVector3(0, 0, 0);
+		j.axis = body.pose.getBasis().getColumn(0);
+		s.joints = {j};
+		s.gravity = btVector3(0, 0, 0);
+		s.reference = Reference::None;
+		s.duration = 0.05;
+		s.outOfPlaneBound = 0.21;
+		RunSettings settings;
+		settings.reference = false;
+		const Metrics m = runScene(s, Kind::Quaternion, settings);
+		ASSERT_TRUE(m.skipped.empty()) << m.skipped;
+		EXPECT_NEAR(m.maxOutOfPlaneRad, 0.12, 1e-5);
+		s.outOfPlaneBound = -1;
+		EXPECT_EQ(runScene(s, Kind::Quaternion, settings).maxOutOfPlaneRad, -1);
+	}
+}
+
 TEST(InertiaRatio, BareQuaternionHingeHoldsGazebosBoundAndStaysAtOrBelowStock)
 {
 	const SceneSpec scene = makeScene("inertia_ratio");
