@@ -33,6 +33,8 @@ std::string kindName(Kind kind);
 /// Throws std::invalid_argument naming the unknown kind.
 Kind parseKind(const std::string& name);
 
+struct MeasuredJoint;  // Simulation.h
+
 struct RunSettings
 {
 	double dt = 1.0 / 60;   ///< s
@@ -50,6 +52,8 @@ struct RunSettings
 	/// Called with the world once it is built, before the first step (the row-basis sweep sets the joints' basis
 	/// there); not for the fine-step reference.
 	std::function<void(btDiscreteDynamicsWorld&)> prepare;
+	/// Called after every step with the measured joints (the sweep's swing-rate statistics); not for the reference.
+	std::function<void(const std::vector<MeasuredJoint>&)> afterStep;
 };
 
 /// The fine-step reference trajectory: the scene with `kind` at dt/16 and 100 iterations, every body's position after

@@ -186,6 +186,7 @@ Metrics runScene(const SceneSpec& scene, Kind kind, const RunSettings& settings)
 				const double yaw = std::atan2(double(r[1][0]), double(r[0][0]));
 				m.maxOutOfPlaneRad = std::max({m.maxOutOfPlaneRad, std::fabs(pitch), std::fabs(yaw)});
 			}
+		if (settings.afterStep) settings.afterStep(sim->joints);
 		double stepSep = 0, stepMis = 0;
 		for (MeasuredJoint& j : sim->joints)
 		{
