@@ -7,8 +7,11 @@
 
 #include "SceneSpec.h"
 
+#include <functional>
 #include <string>
 #include <vector>
+
+class btDiscreteDynamicsWorld;
 
 namespace quathinge
 {
@@ -30,6 +33,8 @@ std::string kindName(Kind kind);
 /// Throws std::invalid_argument naming the unknown kind.
 Kind parseKind(const std::string& name);
 
+struct MeasuredJoint;  // Simulation.h
+
 struct RunSettings
 {
 	double dt = 1.0 / 60;   ///< s
@@ -44,6 +49,11 @@ struct RunSettings
 	std::string referenceExe;
 	std::string sceneArgument, modelsDir;
 	unsigned seed = 1;
+	/// Called with the world once it is built, before the first step (the row-basis sweep sets the joints' basis
+	/// there); not for the fine-step reference.
+	std::function<void(btDiscreteDynamicsWorld&)> prepare;
+	/// Called after every step with the measured joints (the sweep's swing-rate statistics); not for the reference.
+	std::function<void(const std::vector<MeasuredJoint>&)> afterStep;
 };
 
 /// The fine-step reference trajectory: the scene with `kind` at dt/16 and 100 iterations, every body's position after
@@ -83,6 +93,9 @@ struct Metrics
 	std::string reference;               ///< which reference trajectoryError uses
 	double recoveryTime = -1;            ///< s after which every joint's misalignment stays below 1°; −1 if never
 	double limitViolation = -1;          ///< rad, worst excursion past a limit (θ from the frames); −1: no limits
+	/// rad: Gazebo's out-of-plane angle, the largest |pitch| or |yaw| (ZYX Euler angles of a body's world
+	/// orientation) over bodies and steps, for scenes that ask for it (SceneSpec::outOfPlaneBound); −1 otherwise
+	double maxOutOfPlaneRad = -1;
 	double finalTheta = 0;               ///< rad, the first joint's continuous θ at the end (from the frames)
 	/// max (E − E₀) / energy scale over the run, every scene (drives and contacts included): what the runaway test reads
 	double maxEnergyGain = 0;

@@ -86,6 +86,7 @@ Metrics runScene(const SceneSpec& scene, Kind kind, const RunSettings& settings)
 	try
 	{
 		sim.reset(new Simulation(scene, kind));
+		if (settings.prepare) settings.prepare(sim->world());
 		if (settings.reference && scene.reference == Reference::FineStep) reference.reset(new Simulation(scene, kind));
 	}
 	catch (const std::exception& e)
@@ -176,6 +177,16 @@ Metrics runScene(const SceneSpec& scene, Kind kind, const RunSettings& settings)
 			m.blowUpTime = t;
 			break;
 		}
+		if (scene.outOfPlaneBound >= 0)
+			for (const btRigidBody* b : sim->bodies)
+			{
+				// ZYX Euler angles of the body's orientation R: pitch = asin(−R₂₀), yaw = atan2(R₁₀, R₀₀)
+				const btMatrix3x3& r = b->getCenterOfMassTransform().getBasis();
+				const double pitch = std::asin(std::max(-1.0, std::min(1.0, -double(r[2][0]))));
+				const double yaw = std::atan2(double(r[1][0]), double(r[0][0]));
+				m.maxOutOfPlaneRad = std::max({m.maxOutOfPlaneRad, std::fabs(pitch), std::fabs(yaw)});
+			}
+		if (settings.afterStep) settings.afterStep(sim->joints);
 		double stepSep = 0, stepMis = 0;
 		for (MeasuredJoint& j : sim->joints)
 		{

@@ -59,7 +59,7 @@ std::vector<std::string> sceneNames()
 			"heavy1000",     "heavy10000",    "double_pendulum", "rotor100",       "rotor1000", "flipped90",
 			"flipped179",    "flipped180",    "limit_hit",       "limit_across_pi", "limit_wide", "motor_lift",
 			"four_bar",      "ragdoll",       "spider",          "kuka_iiwa",      "pendulum5", "humanoid",
-			"base_2",        "quadruped",     "two_joint_robot", "rest500",  "rest500_asleep"};
+			"base_2",        "quadruped",     "two_joint_robot", "inertia_ratio", "rest500", "rest500_asleep"};
 }
 
 std::string defaultModelsDir()
@@ -101,6 +101,15 @@ SceneSpec makeScene(const std::string& name, unsigned seed, const std::string& m
 	if (name == "ragdoll") return ragdollScene(seed);
 	if (name == "rest500") return restScene(50, 10, false);
 	if (name == "rest500_asleep") return restScene(50, 10, true);
+	// Gazebo's inertia-ratio pendulum (scene_inertia_ratio.cpp), and its family inertia_ratio_<N>, a 1:N mass ratio
+	if (name == "inertia_ratio") return inertiaRatioScene(0);
+	if (name.rfind("inertia_ratio_", 0) == 0)
+	{
+		const std::string ratio = name.substr(14);
+		if (!ratio.empty() && ratio.find_first_not_of("0123456789") == std::string::npos && ratio.size() < 7 &&
+			std::stoi(ratio) >= 1)
+			return inertiaRatioScene(std::stoi(ratio));
+	}
 	if (name == "spider") return spiderScene(modelsDir);
 	if (name == "kuka_iiwa") return urdfScene(name, modelsDir + "/kuka_iiwa_model.urdf");
 	if (name == "pendulum5") return urdfScene(name, modelsDir + "/pendulum5.urdf");

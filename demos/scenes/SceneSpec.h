@@ -103,6 +103,12 @@ struct SceneSpec
 	std::vector<ShapePart> worldParts;
 	Reference reference = Reference::FineStep;
 	double exactPeriod = 0;       ///< s, for Reference::PendulumPeriod
+	/// s: the scene's own time step where its source fixes one (Gazebo's 1 ms world); 0: none. The sweep
+	/// (demos/sweep) runs it at this step; quathinge-compare runs every scene at its --dt.
+	double dt = 0;
+	/// rad: when ≥ 0, runScene measures Gazebo's out-of-plane angle (the largest |pitch| and |yaw| of any body's
+	/// ZYX Euler angles, Metrics::maxOutOfPlaneRad) and this is the bound its source holds it to.
+	double outOfPlaneBound = -1;
 	/// For scenes loaded from files: a reason the scene cannot run here (a missing file, a part the loader cannot
 	/// represent: the file, the part and why); empty when it can.
 	std::string unavailable;
@@ -138,6 +144,8 @@ SceneSpec fourBarScene();
 SceneSpec ragdollScene(unsigned seed);
 SceneSpec restScene(int chains, int links, bool sleeping);
 SceneSpec spiderScene(const std::string& modelsDir);
+/// Gazebo classic's inertia-ratio pendulum (massRatio ≤ 0), or the same with a light:heavy mass ratio of 1:massRatio.
+SceneSpec inertiaRatioScene(double massRatio);
 SceneSpec urdfScene(const std::string& name, const std::string& path);
 
 /// A chain of boxes hanging from the world, link i's top at `top` + i·(0, −length, 0) (helper for several scenes).

@@ -37,6 +37,49 @@ bool finiteBodyState(const btRigidBody& body)
 	return sum[0] + sum[1] + sum[2] < kMaxBodyState && inverse < kMaxBodyState;  // false for NaN as well
 }
 
+// Eigenvectors (columns of v) of the symmetric n×n matrix k (n ≤ 5), by cyclic Jacobi rotations (k is overwritten).
+void symmetricEigenvectors(double (&k)[5][5], double (&v)[5][5], int n)
+{
+	for (int r = 0; r < 5; ++r)
+		for (int c = 0; c < 5; ++c) v[r][c] = r == c ? 1 : 0;
+	for (int sweep = 0; sweep < 50; ++sweep)
+	{
+		double off = 0, diag = 0;
+		for (int r = 0; r < n; ++r)
+		{
+			diag += k[r][r] * k[r][r];
+			for (int c = r + 1; c < n; ++c) off += k[r][c] * k[r][c];
+		}
+		if (off <= 1e-30 * diag) return;
+		for (int p = 0; p < n; ++p)
+			for (int q = p + 1; q < n; ++q)
+			{
+				if (k[p][q] == 0) continue;
+				const double theta = (k[q][q] - k[p][p]) / (2 * k[p][q]);
+				const double t = (theta >= 0 ? 1 : -1) / (std::fabs(theta) + std::sqrt(theta * theta + 1));
+				const double c = 1 / std::sqrt(t * t + 1), s = t * c;
+				for (int i = 0; i < n; ++i)  // k ← k Jᵀ... as columns p, q
+				{
+					const double kp = k[i][p], kq = k[i][q];
+					k[i][p] = c * kp - s * kq;
+					k[i][q] = s * kp + c * kq;
+				}
+				for (int i = 0; i < n; ++i)  // and rows p, q
+				{
+					const double kp = k[p][i], kq = k[q][i];
+					k[p][i] = c * kp - s * kq;
+					k[q][i] = s * kp + c * kq;
+				}
+				for (int i = 0; i < n; ++i)
+				{
+					const double vp = v[i][p], vq = v[i][q];
+					v[i][p] = c * vp - s * vq;
+					v[i][q] = s * vp + c * vq;
+				}
+			}
+	}
+}
+
 bool isStaticLike(const btRigidBody& body)
 {
 	return body.getInvMass() == 0 && body.getInvInertiaDiagLocal().isZero();
@@ -166,21 +209,69 @@ int btQuaternionHingeConstraint::fillBilateralRows(btConstraintInfo2* info, cons
 	const Lanes pivotA = lanesOf(pose.pivotA), pivotB = lanesOf(pose.pivotB);
 	const Lanes rA = pivotA - lanesOf(transA.getOrigin());
 	const Lanes rB = pivotB - lanesOf(transB.getOrigin());
-	const PointRowBasis basis = pointRowBasis(pose.axesA, rA, rB, m_rbA.getInvMass(), m_rbB.getInvMass());
+	// The default basis (RowBasis::Radial) unless the row-basis study hook chose another (SolverRowBasis.h).
+	const btScalar invMassA = m_rbA.getInvMass(), invMassB = m_rbB.getInvMass();
+	RowBasis rowBasis = RowBasis(m_rowBasis);
+	if (rowBasis == RowBasis::TurnedAtStatic)
+		rowBasis = invMassA > btScalar(0) && invMassB > btScalar(0) ? RowBasis::Radial : RowBasis::RadialTurned;
+	const Lanes hingeAxis = lanesOf(pose.axesA[2]);
+	PointRowBasis basis;
+	if (rowBasis == RowBasis::World)
+	{
+		basis.p = lanesOf(btVector3(1, 0, 0));
+		basis.t = lanesOf(btVector3(0, 1, 0));
+		basis.a = lanesOf(btVector3(0, 0, 1));
+	}
+	else if (rowBasis == RowBasis::JointFrame)
+	{
+		basis.p = lanesOf(pose.axesA[0]);
+		basis.t = lanesOf(pose.axesA[1]);
+		basis.a = hingeAxis;
+	}
+	else if (rowBasis == RowBasis::Heavy && invMassA > btScalar(0) && invMassB > btScalar(0))
+		basis = pointRowBasis(pose.axesA, rA, rB, invMassA <= invMassB ? btScalar(1) : btScalar(0),
+							  invMassA <= invMassB ? btScalar(0) : btScalar(1));  // the heavier body's arm alone
+	else
+		basis = pointRowBasis(pose.axesA, rA, rB, invMassA, invMassB);
+	// World has no row along the hinge axis; the others' third row is the axis.
+	const bool axisRow = rowBasis != RowBasis::World;
+	// Only the study bases turn the quaternion rows toward p (SolverRowBasis.h: the turn is what lost on the
+	// inertia-ratio pendulum).
+	const bool turnQuaternionRows = rowBasis == RowBasis::RadialTurned || rowBasis == RowBasis::Heavy ||
+									rowBasis == RowBasis::Decoupled || rowBasis == RowBasis::RadialTurned45 ||
+									rowBasis == RowBasis::RadialTurned90;
 
-	// Quaternion part (Q7, Q9, Q10; the log form beyond 90°, Q12): body A −g, body B +g, error −erp·fps·C; for the
-	// solver turned within the part's plane so the first row lies along p (SolverRowBasis.h). Written after the point
-	// rows; computed first, as the point rows take a multiple of them (below).
+	// Quaternion part (Q7, Q9, Q10; the log form beyond 90°, Q12): body A −g, body B +g, error −erp·fps·C, as
+	// derived (only the study bases turn it within its plane so the first row lies along p, SolverRowBasis.h).
+	// Written after the point rows; computed first, as the point rows take a multiple of them (below).
 	AngularRows angular;
 	computeAngularRowsFromAxes(pose.axesA, pose.q, angular);
-	const Lanes rowU = lanesOf(angular.rowU), rowV = lanesOf(angular.rowV);
-	btScalar cosPsi, sinPsi;
-	quaternionRowTurn(rowU, rowV, basis.p, cosPsi, sinPsi);
-	const Lanes turnedU = rowU * cosPsi + rowV * sinPsi, turnedV = rowV * cosPsi - rowU * sinPsi;
-	const btScalar errorU = -errorScale(kAngularKind) * (cosPsi * angular.errorU + sinPsi * angular.errorV);
-	const btScalar errorV = -errorScale(kAngularKind + 1) * (cosPsi * angular.errorV - sinPsi * angular.errorU);
+	Lanes turnedU = lanesOf(angular.rowU), turnedV = lanesOf(angular.rowV);
+	btScalar errorU = -errorScale(kAngularKind) * angular.errorU;
+	btScalar errorV = -errorScale(kAngularKind + 1) * angular.errorV;
+	if (turnQuaternionRows)
+	{
+		const Lanes rowU = turnedU, rowV = turnedV;
+		btScalar cosPsi, sinPsi;
+		quaternionRowTurn(rowU, rowV, basis.p, cosPsi, sinPsi);
+		if (rowBasis == RowBasis::RadialTurned45 || rowBasis == RowBasis::RadialTurned90)
+		{
+			// a further turn by 45° or 90°: (c, s) ← (c cos β − s sin β, s cos β + c sin β)
+			const btScalar cb = rowBasis == RowBasis::RadialTurned90 ? btScalar(0) : SIMDSQRT12;
+			const btScalar sb = rowBasis == RowBasis::RadialTurned90 ? btScalar(1) : SIMDSQRT12;
+			const btScalar c = cosPsi * cb - sinPsi * sb, s = sinPsi * cb + cosPsi * sb;
+			cosPsi = c;
+			sinPsi = s;
+		}
+		turnedU = rowU * cosPsi + rowV * sinPsi;
+		turnedV = rowV * cosPsi - rowU * sinPsi;
+		errorU = -errorScale(kAngularKind) * (cosPsi * angular.errorU + sinPsi * angular.errorV);
+		errorV = -errorScale(kAngularKind + 1) * (cosPsi * angular.errorV - sinPsi * angular.errorU);
+	}
 
-	int row = 0;
+	// Rows in the order point, quaternion (the default) or quaternion, point (the study hook's angularRowsFirst).
+	const int pointFirstRow = m_angularRowsFirst ? 2 : 0;
+	int row = pointFirstRow;
 	if (!angularOnly)
 	{
 		// The axial parts of the lever arms (along the hinge axis a) couple a point row to the swing through the
@@ -192,9 +283,9 @@ int btQuaternionHingeConstraint::fillBilateralRows(btConstraintInfo2* info, cons
 		// their exactness (SolverRowBasis.h: a change of row basis held for the step). δ as stock's: the arms' axial
 		// offsets blended by inverse mass (a static side keeps its own; the dynamic side's axial arm becomes 0).
 		const Lanes c = pivotB - pivotA;
-		const btScalar invMassSum = m_rbA.getInvMass() + m_rbB.getInvMass();
-		const btScalar weightA = invMassSum > btScalar(0) ? m_rbB.getInvMass() / invMassSum : btScalar(0.5);
-		const btScalar axialA = dotXyz(basis.a, rA), axialB = dotXyz(basis.a, rB);
+		const btScalar invMassSum = invMassA + invMassB;
+		const btScalar weightA = invMassSum > btScalar(0) ? invMassB / invMassSum : btScalar(0.5);
+		const btScalar axialA = dotXyz(hingeAxis, rA), axialB = dotXyz(hingeAxis, rB);
 		const btScalar delta = axialA - (axialA - axialB) * weightA;
 		const btScalar uu = dotXyz(turnedU, turnedU), uv = dotXyz(turnedU, turnedV), vv = dotXyz(turnedV, turnedV);
 		const btScalar det = uu * vv - uv * uv;
@@ -208,7 +299,7 @@ int btQuaternionHingeConstraint::fillBilateralRows(btConstraintInfo2* info, cons
 		// takes off the multiple of them that cancels its dynamic side's angular part (a door 12.3 m from its pivot,
 		// gravity along the axis: its pivot sagged 0.016 m at 10 iterations, where stock's holds).
 		const bool staticA = m_rbA.getInvMass() < SIMD_EPSILON, staticB = m_rbB.getInvMass() < SIMD_EPSILON;  // as stock
-		const bool freeAxialArm = staticA != staticB && quaternionRowsIndependent;
+		const bool freeAxialArm = axisRow && staticA != staticB && quaternionRowsIndependent;
 		// The row operation both take: the point row minus c_u, c_v times the quaternion rows (A side −u', −v', B side
 		// +u', +v', errors errorU, errorV), (c_u, c_v) = scale × the coefficients of w's projection on (u', v'); w by
 		// value: it may be one of the arms the operation changes.
@@ -229,7 +320,7 @@ int btQuaternionHingeConstraint::fillBilateralRows(btConstraintInfo2* info, cons
 			Lanes angularA = crossLanes(e, rA), angularB = crossLanes(rB, e);
 			btScalar error = -errorScale(kLinearKind + i) * dotXyz(e, c);
 			// the arms' axial offset δ: w = a × e (a × a = 0: the axial row needs none)
-			if (shift && i < 2) takeOffQuaternionRows(crossLanes(basis.a, e), delta, angularA, angularB, error);
+			if (shift && (i < 2 || !axisRow)) takeOffQuaternionRows(crossLanes(hingeAxis, e), delta, angularA, angularB, error);
 			// the axial row's whole lever on the dynamic side, J1 (A) or J2 (B): A's + g = 0, or B's − g = 0
 			if (freeAxialArm && i == 2)
 				takeOffQuaternionRows(staticB ? -angularA : angularB, btScalar(1), angularA, angularB, error);
@@ -242,6 +333,7 @@ int btQuaternionHingeConstraint::fillBilateralRows(btConstraintInfo2* info, cons
 		}
 	}
 
+	if (m_angularRowsFirst) row = 0;
 	const int atU = row * skip, atV = atU + skip;
 	storeXyz(info->m_J1angularAxis + atU, -turnedU);
 	storeXyz(info->m_J2angularAxis + atU, turnedU);
@@ -251,7 +343,62 @@ int btQuaternionHingeConstraint::fillBilateralRows(btConstraintInfo2* info, cons
 	info->m_constraintError[atV] = errorV;
 	rowCfmOverride(kAngularKind, atU);
 	rowCfmOverride(kAngularKind + 1, atV);
-	return row + 2;
+	const int rows = angularOnly ? 2 : 5;
+	if (rowBasis == RowBasis::Decoupled) decoupleRows(info, rows);
+	return rows;
+}
+
+void btQuaternionHingeConstraint::decoupleRows(btConstraintInfo2* info, int rows) const
+{
+	// RowBasis::Decoupled (study only): the joint's rows J_i, errors b_i replaced by Σ_i V_ik J_i, Σ_i V_ik b_i with
+	// V the eigenvectors of the joint's own K = J M⁻¹ Jᵀ (an orthogonal change of the rows' basis: the same solution
+	// set; the joint's block of K becomes diagonal). Per-row CFM overrides are not carried over.
+	const int skip = info->rowskip;
+	double k[5][5], v[5][5], j[5][12], b[5];
+	const btMatrix3x3& inertiaA = m_rbA.getInvInertiaTensorWorld();
+	const btMatrix3x3& inertiaB = m_rbB.getInvInertiaTensorWorld();
+	btVector3 linA[5], angA[5], linB[5], angB[5], angAI[5], angBI[5];
+	for (int r = 0; r < rows; ++r)
+	{
+		const int at = r * skip;
+		linA[r].setValue(info->m_J1linearAxis[at], info->m_J1linearAxis[at + 1], info->m_J1linearAxis[at + 2]);
+		angA[r].setValue(info->m_J1angularAxis[at], info->m_J1angularAxis[at + 1], info->m_J1angularAxis[at + 2]);
+		linB[r].setValue(info->m_J2linearAxis[at], info->m_J2linearAxis[at + 1], info->m_J2linearAxis[at + 2]);
+		angB[r].setValue(info->m_J2angularAxis[at], info->m_J2angularAxis[at + 1], info->m_J2angularAxis[at + 2]);
+		angAI[r] = inertiaA * angA[r];
+		angBI[r] = inertiaB * angB[r];
+		for (int c = 0; c < 3; ++c)
+		{
+			j[r][c] = linA[r][c];
+			j[r][3 + c] = angA[r][c];
+			j[r][6 + c] = linB[r][c];
+			j[r][9 + c] = angB[r][c];
+		}
+		b[r] = info->m_constraintError[at];
+	}
+	for (int r = 0; r < rows; ++r)
+		for (int c = 0; c < rows; ++c)
+			k[r][c] = double(m_rbA.getInvMass() * linA[r].dot(linA[c]) + angA[r].dot(angAI[c]) +
+							 m_rbB.getInvMass() * linB[r].dot(linB[c]) + angB[r].dot(angBI[c]));
+	symmetricEigenvectors(k, v, rows);
+	for (int col = 0; col < rows; ++col)
+	{
+		const int at = col * skip;
+		double out[12] = {0}, error = 0;
+		for (int r = 0; r < rows; ++r)
+		{
+			for (int c = 0; c < 12; ++c) out[c] += v[r][col] * j[r][c];
+			error += v[r][col] * b[r];
+		}
+		for (int c = 0; c < 3; ++c)
+		{
+			info->m_J1linearAxis[at + c] = btScalar(out[c]);
+			info->m_J1angularAxis[at + c] = btScalar(out[3 + c]);
+			info->m_J2linearAxis[at + c] = btScalar(out[6 + c]);
+			info->m_J2angularAxis[at + c] = btScalar(out[9 + c]);
+		}
+		info->m_constraintError[at] = btScalar(error);
+	}
 }
 
 int btQuaternionHingeConstraint::computePositionRows(const btTransform& transA, const btTransform& transB, btScalar* C,

@@ -21,19 +21,79 @@
 // the same kind of change of row basis, not orthogonal but held for the step as M is), and a is joint frame A's z as
 // it is (stock blends A's and B's axes; no blend is needed for a basis).
 //   point part:       rows e·(v_B + ω_B × r_B − v_A − ω_A × r_A) for e ∈ {p, t, a}, error e·(p_B − p_A)
-//   quaternion part:  the two Q7 rows (u, v) (or their log form past 90°, Q12) turned within their plane,
-//                     (u', v') = (c u + s v, c v − s u) with (c, s) = (u·p, v·p)/|(u·p, v·p)|, so that u' lies along
-//                     p's part in that plane (stock writes its two angular rows along p and t too). u and v flip sign
-//                     with q (Q3) and so do c and s: the turned rows do not depend on the quaternion's sign.
+//   quaternion part:  the two Q7 rows (u, v) (or their log form past 90°, Q12) as derived: along joint frame A's
+//                     x̂ and ŷ (to first order), fixed in body A rather than in the lever arms.
+// Until issue 16 the quaternion rows were turned within their plane so that u' lay along p (stock writes its two
+// angular rows along p and t): (u', v') = (c u + s v, c v − s u), (c, s) = (u·p, v·p)/|(u·p, v·p)| (RowBasis::
+// RadialTurned keeps it for the sweep). The row-basis sweep (docs/ROW_BASIS.md) found that turn to be what lost to
+// stock on Gazebo's inertia-ratio pendulum: a thin light link between an anchor and a heavy link, where p lies along
+// the thin link and u' becomes the swing about the link's own long axis (its smallest inertia). Unturned, the
+// out-of-plane angle over 3 s went from 0.821/0.366/0.341 rad to 0.114/0.036/0.012 rad at 50/100/250 iterations
+// (stock 0.186/0.251/0.225); 23 of the sweep's 31 scenes moved by less than 10%.
 #ifndef QUATHINGE_SOLVER_ROW_BASIS_H
 #define QUATHINGE_SOLVER_ROW_BASIS_H
 
+#include "InputChecks.h"
 #include "LinearMath/btMatrix3x3.h"
 #include "LinearMath/btVector3.h"
 #include "MatrixLanes.h"
+#include "quathinge/btQuaternionHingeConstraint.h"
 
 namespace quathinge
 {
+/// The bases the bilateral rows can be written in (docs/ROW_BASIS.md compares them). Every one is a change of the
+/// rows' basis held for the step: the same constraint, converged on differently by Gauss–Seidel.
+enum class RowBasis : int
+{
+	Radial = 0,     ///< the default: p, t, a (pointRowBasis below), quaternion rows as derived
+	World = 1,      ///< point rows along world x, y, z; quaternion rows as derived (u, v)
+	Heavy = 2,      ///< p, t, a from the heavier dynamic body's arm alone (as RadialTurned when one side is static),
+	                ///< quaternion rows turned toward that p
+	Decoupled = 3,  ///< the five rows turned into the eigenvectors of the joint's own K = J M⁻¹ Jᵀ (5×5 diagonal)
+	JointFrame = 4, ///< point rows along joint frame A's x, y, z; quaternion rows as derived (u ≈ x̂, v ≈ ŷ)
+	RadialTurned = 5,  ///< the default before issue 16: Radial with the quaternion rows turned so u' lies along p
+	/// per joint: RadialTurned where one side is static, Radial between two dynamic bodies
+	TurnedAtStatic = 6,
+	RadialTurned45 = 7,  ///< as RadialTurned, then turned 45° further in their plane (u' halfway between p and a × p)
+	RadialTurned90 = 8,  ///< as RadialTurned, then turned 90° further (u' along a × p)
+	Count = 9
+};
+inline const char* rowBasisName(RowBasis basis)
+{
+	switch (basis)
+	{
+		case RowBasis::Radial: return "radial";
+		case RowBasis::World: return "world";
+		case RowBasis::Heavy: return "heavy";
+		case RowBasis::Decoupled: return "decoupled";
+		case RowBasis::JointFrame: return "jointframe";
+		case RowBasis::RadialTurned: return "radial-turned";
+		case RowBasis::TurnedAtStatic: return "turned-at-static";
+		case RowBasis::RadialTurned45: return "radial-turned45";
+		case RowBasis::RadialTurned90: return "radial-turned90";
+		case RowBasis::Count: break;
+	}
+	return "?";
+}
+
+/// The in-tree hook that sets a joint's row basis and order (the sweep, demos/sweep, and tests). Not public API: the
+/// basis is the library's choice of how to present one constraint to the solver, not a setting of the joint, so it is
+/// neither in btQuaternionHingeSettings nor serialized. Refuses a value outside RowBasis as the setters refuse
+/// theirs (InputChecks.h: thrown, or reported and false returned) and then changes nothing.
+struct SolverRowBasisAccess
+{
+	static bool set(btQuaternionHingeConstraint& joint, RowBasis basis, bool angularRowsFirst)
+	{
+		const int value = int(basis);
+		if (value < 0 || value >= int(RowBasis::Count))
+			return check::fail("quathinge::SolverRowBasisAccess::set", "basis", "is not a RowBasis", btScalar(value));
+		joint.m_rowBasis = value;
+		joint.m_angularRowsFirst = angularRowsFirst;
+		return true;
+	}
+	static RowBasis basis(const btQuaternionHingeConstraint& joint) { return RowBasis(joint.m_rowBasis); }
+	static bool angularRowsFirst(const btQuaternionHingeConstraint& joint) { return joint.m_angularRowsFirst; }
+};
 /// The three point-row directions (world, orthonormal, right-handed: t = a × p, p = t × a), as SIMD lanes
 /// (MatrixLanes.h: the same operations as btVector3's, so the same bits).
 struct PointRowBasis
@@ -72,7 +132,7 @@ inline PointRowBasis pointRowBasis(const btMatrix3x3& axesA, const Lanes& armA, 
 }
 
 /// The turn (c, s) of the quaternion part's rows u, v (world) that puts u' = c u + s v along p's part in their plane;
-/// (1, 0) when p has no part there.
+/// (1, 0) when p has no part there (RowBasis::RadialTurned, Heavy, Decoupled).
 inline void quaternionRowTurn(const Lanes& u, const Lanes& v, const Lanes& p, btScalar& c, btScalar& s)
 {
 	const btScalar up = dotXyz(u, p), vp = dotXyz(v, p);

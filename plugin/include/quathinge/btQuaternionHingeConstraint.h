@@ -29,6 +29,10 @@ in getInfo1: the joint then reports no rows, disables itself and records why (ge
 
 class btHingeConstraint;
 class btDynamicsWorld;
+namespace quathinge
+{
+struct SolverRowBasisAccess;  // plugin/src/SolverRowBasis.h: the in-tree hook that picks the rows' basis (studies)
+}
 class btIDebugDraw;
 
 /// Constraint type reported by getConstraintType(). It is none of the types that
@@ -342,6 +346,7 @@ private:
 	void computeRowCount(btConstraintInfo1 * info, const btTransform& transA, const btTransform& transB);
 	int fillBilateralRows(btConstraintInfo2 * info, const btTransform& transA, const btTransform& transB,
 						  const Pose& pose) const;
+	void decoupleRows(btConstraintInfo2 * info, int rows) const;
 	void fillRows(btConstraintInfo2 * info, const btTransform& transA, const btTransform& transB,
 				  const btVector3& angVelA, const btVector3& angVelB);
 	btScalar rowErp(int kind, btScalar globalErp) const;
@@ -364,6 +369,13 @@ private:
 	Pose m_pose;        // computed in getInfo1 when an angle was needed, reused by the getInfo2 that follows
 	bool m_poseCached;
 	bool m_limitIsOneTurn;  // the last setLimit gave a range of exactly one turn: reported by hasLimit(), never acts
+	// The basis and order of the solver's bilateral rows (SolverRowBasis.h's RowBasis, and the quaternion rows before
+	// the point rows): a row-space change that Gauss–Seidel converges on differently, never another constraint. Set
+	// only through quathinge::SolverRowBasisAccess, an in-tree hook for the row-basis sweep (docs/ROW_BASIS.md); not
+	// part of the settings, not serialized.
+	int m_rowBasis = 0;
+	bool m_angularRowsFirst = false;
+	friend struct quathinge::SolverRowBasisAccess;
 };
 
 /// Puts `replacement` in `world` in place of `constraint`: removes it and adds the replacement with the same
