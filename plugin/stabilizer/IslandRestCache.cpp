@@ -13,16 +13,18 @@ namespace stabilizer
 {
 namespace
 {
-// The inputs are gathered as scalars and compared as bytes (bit for bit: −0 and +0 differ, as they may in atan2).
+// The inputs are gathered as scalars into an array sized once (no allocation after the island's first step) and
+// compared as bytes (bit for bit: −0 and +0 differ, as they may in atan2).
 struct Gather
 {
-	Array<btScalar>& out;
-	void add(btScalar x) { out.push_back(x); }
+	btScalar* at;
+	void add(btScalar x) { *at++ = x; }
 	void add(const btVector3& v)
 	{
-		add(v.x());
-		add(v.y());
-		add(v.z());
+		at[0] = v.x();
+		at[1] = v.y();
+		at[2] = v.z();
+		at += 3;
 	}
 	void add(const btTransform& t)
 	{
@@ -31,10 +33,24 @@ struct Gather
 	}
 };
 
+// Scalars gathered per island body, per fixed partner, per joint (and its multi-turn angle), and for the step.
+const size_t kPerBody = 12 + 3 + 3 + 1 + 3 + 3 + 3 + 1;
+const size_t kPerFixedSide = 12 + 3 + 3;
+const size_t kPerJoint = 12 + 12 + 1 + 2;
+
+size_t inputSize(const Island& island)
+{
+	size_t n = 1 + kPerBody * island.bodies.size();
+	for (const JointSlot& js : island.joints)
+		n += kPerJoint + (js.limitSlot ? 1 : 0) + kPerFixedSide * size_t((js.body[0] < 0) + (js.body[1] < 0));
+	return n;
+}
+
 void gatherInputs(const Island& island, btScalar timeStep, Array<btScalar>& out)
 {
-	out.clear();  // keeps its capacity: no allocation after the first step
-	Gather g{out};
+	const size_t n = inputSize(island);
+	if (out.size() != n) out.resize(n);  // sized once: the island's structure is fixed
+	Gather g{out.data()};
 	g.add(timeStep);
 	for (const IslandBody& b : island.bodies)
 	{
@@ -66,12 +82,14 @@ void gatherInputs(const Island& island, btScalar timeStep, Array<btScalar>& out)
 		// the projection's limit row starts from the joint's multi-turn angle (read only where the projection reads it)
 		if (js.limitSlot) g.add(js.joint->getMultiTurnAngle());
 	}
+	btAssert(g.at == out.data() + n);
 }
 
 void gatherOutputs(const Island& island, Array<btScalar>& out)
 {
-	out.clear();
-	Gather g{out};
+	const size_t n = 18 * island.bodies.size();
+	if (out.size() != n) out.resize(n);
+	Gather g{out.data()};
 	for (const IslandBody& b : island.bodies)
 	{
 		g.add(b.rigid->getCenterOfMassTransform());
