@@ -13,6 +13,7 @@
 #include "quathinge/btQuaternionHingeConstraint.h"
 
 #include <CLI/CLI.hpp>
+#include <Eigen/Dense>
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -70,42 +71,6 @@ struct Analysis
 	double blockCondition = 0;       // largest eigenvalue ratio of a joint's own block of K
 };
 const int kSweeps[3] = {10, 50, 250};
-
-// The symmetric eigenvalues of a small matrix (cyclic Jacobi).
-std::vector<double> eigenvalues(std::vector<std::vector<double>> a)
-{
-	const size_t n = a.size();
-	for (int sweep = 0; sweep < 60; ++sweep)
-	{
-		double off = 0;
-		for (size_t p = 0; p < n; ++p)
-			for (size_t q = p + 1; q < n; ++q) off += a[p][q] * a[p][q];
-		if (off < 1e-28) break;
-		for (size_t p = 0; p < n; ++p)
-			for (size_t q = p + 1; q < n; ++q)
-			{
-				if (a[p][q] == 0) continue;
-				const double theta = (a[q][q] - a[p][p]) / (2 * a[p][q]);
-				const double t = (theta >= 0 ? 1 : -1) / (std::fabs(theta) + std::sqrt(theta * theta + 1));
-				const double c = 1 / std::sqrt(t * t + 1), s = t * c;
-				for (size_t i = 0; i < n; ++i)
-				{
-					const double ap = a[i][p], aq = a[i][q];
-					a[i][p] = c * ap - s * aq;
-					a[i][q] = s * ap + c * aq;
-				}
-				for (size_t i = 0; i < n; ++i)
-				{
-					const double ap = a[p][i], aq = a[q][i];
-					a[p][i] = c * ap - s * aq;
-					a[q][i] = s * ap + c * aq;
-				}
-			}
-	}
-	std::vector<double> d;
-	for (size_t i = 0; i < n; ++i) d.push_back(a[i][i]);
-	return d;
-}
 
 // The K analysis at one state: `states` are the scene's bodies' transforms and velocities (taken from one run of the
 // stabilized kind, so every basis is judged at the same poses, on the joints' manifold). The right-hand side is the solver's: b = e − J v_free, v_free the
@@ -233,20 +198,24 @@ Analysis analyse(const SceneSpec& scene, const Variant& v, bool angularFirst, co
 			if (rows[r].joint == rows[c].joint) out.intraCoupling = std::max(out.intraCoupling, coupling);
 			else out.interCoupling = std::max(out.interCoupling, coupling);
 		}
+	Eigen::MatrixXd dense{Eigen::Index(n), Eigen::Index(n)};  // K for Eigen's eigenvalues and LU
+	for (size_t r = 0; r < n; ++r)
+		for (size_t c = 0; c < n; ++c) dense(Eigen::Index(r), Eigen::Index(c)) = K[r][c];
 	// each joint's own block: its eigenvalue ratio
 	for (size_t start = 0; start < n;)
 	{
 		size_t end = start;
 		while (end < n && rows[end].joint == rows[start].joint) ++end;
-		std::vector<std::vector<double>> block(end - start, std::vector<double>(end - start));
-		for (size_t r = start; r < end; ++r)
-			for (size_t c = start; c < end; ++c) block[r - start][c - start] = K[r][c];
-		const std::vector<double> e = eigenvalues(block);
-		const double lo = *std::min_element(e.begin(), e.end()), hi = *std::max_element(e.begin(), e.end());
+		const Eigen::Index size = Eigen::Index(end - start);
+		const Eigen::VectorXd e =
+			Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(dense.block(Eigen::Index(start), Eigen::Index(start), size, size),
+														   Eigen::EigenvaluesOnly)
+				.eigenvalues();
+		const double lo = e.minCoeff(), hi = e.maxCoeff();
 		out.blockCondition = std::max(out.blockCondition, lo > 0 ? hi / lo : INFINITY);
 		start = end;
 	}
-	// b = e − J v_free; λ* = K⁻¹ b (dense elimination with partial pivoting); then Gauss–Seidel from λ = 0, as the
+	// b = e − J v_free; λ* = K⁻¹ b (Eigen's LU with partial pivoting); then Gauss–Seidel from λ = 0, as the
 	// solver's first iteration (joints are not warm-started), in the rows' order
 	std::vector<double> b(n), star(n);
 	auto velocity = [&](int body, double out[6]) {
@@ -272,32 +241,8 @@ Analysis analyse(const SceneSpec& scene, const Variant& v, bool angularFirst, co
 		b[r] = rows[r].error - jv;
 	}
 	{
-		std::vector<std::vector<double>> a = K;
-		std::vector<double> rhs = b;
-		std::vector<size_t> perm(n);
-		for (size_t i = 0; i < n; ++i) perm[i] = i;
-		for (size_t col = 0; col < n; ++col)
-		{
-			size_t pivot = col;
-			for (size_t r = col + 1; r < n; ++r)
-				if (std::fabs(a[r][col]) > std::fabs(a[pivot][col])) pivot = r;
-			std::swap(a[col], a[pivot]);
-			std::swap(rhs[col], rhs[pivot]);
-			if (a[col][col] == 0) continue;
-			for (size_t r = col + 1; r < n; ++r)
-			{
-				const double f = a[r][col] / a[col][col];
-				if (f == 0) continue;
-				for (size_t c = col; c < n; ++c) a[r][c] -= f * a[col][c];
-				rhs[r] -= f * rhs[col];
-			}
-		}
-		for (size_t i = n; i-- > 0;)
-		{
-			double sum = rhs[i];
-			for (size_t c = i + 1; c < n; ++c) sum -= a[i][c] * star[c];
-			star[i] = a[i][i] != 0 ? sum / a[i][i] : 0;
-		}
+		const Eigen::VectorXd x = dense.partialPivLu().solve(Eigen::Map<const Eigen::VectorXd>(b.data(), Eigen::Index(n)));
+		for (size_t i = 0; i < n; ++i) star[i] = x[Eigen::Index(i)];
 	}
 	// the joints' velocity errors after impulses λ: v = v_free + M⁻¹ Jᵀ λ per body, then each measured joint's swing
 	// rate and pivot speed (from its frames, not from the rows: the same measure for every basis)
