@@ -24,16 +24,43 @@ struct PendulumRun
 	double maxCorrection = 0;  // the stabilizer's largest energy scaling |s − 1|
 };
 
-// A 0.5 m bar hinged at one end, released horizontally, 10 s at 60 Hz with the stabilizer (conserveEnergy on or off).
-// Period: mean interval between the turning points on the release side; exact: 4 √(I/(m g d)) K(sin 45°).
-PendulumRun runPendulum(bool conserveEnergy)
+// A 0.5 m bar of 1 kg hinged at one end to the world, released horizontally, with the stabilizer (conserveEnergy on or
+// off); gravity 10 m/s².
+struct BarPendulum
 {
 	StabilizerScene scene;
-	btRigidBody* bar = scene.chain(1)[0];
-	btQuaternionHingeStabilizerSettings settings;
-	settings.conserveEnergy = conserveEnergy;
-	btQuaternionHingeStabilizer stabilizer(settings);
-	scene.addAction(&stabilizer);
+	btRigidBody* bar;
+	btQuaternionHingeStabilizer stabilizer;
+	explicit BarPendulum(bool conserveEnergy) : bar(scene.chain(1)[0]), stabilizer(settings(conserveEnergy))
+	{
+		scene.addAction(&stabilizer);
+	}
+	static btQuaternionHingeStabilizerSettings settings(bool conserveEnergy)
+	{
+		btQuaternionHingeStabilizerSettings s;
+		s.conserveEnergy = conserveEnergy;
+		return s;
+	}
+	// J: kinetic (linear and rotational) plus the gravity potential
+	double energy() const
+	{
+		const btVector3 local = bar->getCenterOfMassTransform().getBasis().transpose() * bar->getAngularVelocity();
+		const btVector3& inv = bar->getInvInertiaDiagLocal();
+		double e = 0.5 * bar->getLinearVelocity().length2() + 10 * bar->getCenterOfMassPosition().y();
+		for (int i = 0; i < 3; ++i) e += 0.5 * local[i] * local[i] / inv[i];
+		return e;
+	}
+	void step() { scene.world().stepSimulation(kTimeStep, 0, kTimeStep); }
+};
+
+// The bar 10 s at 60 Hz. Period: mean interval between the turning points on the release side; exact:
+// 4 √(I/(m g d)) K(sin 45°).
+PendulumRun runPendulum(bool conserveEnergy)
+{
+	BarPendulum pendulum(conserveEnergy);
+	StabilizerScene& scene = pendulum.scene;
+	btRigidBody* bar = pendulum.bar;
+	btQuaternionHingeStabilizer& stabilizer = pendulum.stabilizer;
 	const double m = 1, g = 10, a = 0.25, b = 0.05, d = 0.25;
 	const double inertia = m / 3 * (a * a + b * b) + m * d * d;
 	double agmA = 1, agmB = std::sqrt(0.5);  // K(k) = π / (2 AGM(1, √(1 − k²))), k = sin 45°
@@ -44,22 +71,15 @@ PendulumRun runPendulum(bool conserveEnergy)
 		agmA = next;
 	}
 	const double exactPeriod = 4 * std::sqrt(inertia / (m * g * d)) * (M_PI / (2 * agmA));
-	auto energy = [&]() {
-		const btVector3 w = bar->getAngularVelocity();
-		const btVector3 local = bar->getCenterOfMassTransform().getBasis().transpose() * w;
-		const btVector3& inv = bar->getInvInertiaDiagLocal();
-		double e = 0.5 * m * bar->getLinearVelocity().length2() + m * g * bar->getCenterOfMassPosition().y();
-		for (int i = 0; i < 3; ++i) e += 0.5 * local[i] * local[i] / inv[i];
-		return e;
-	};
+	auto energy = [&]() { return pendulum.energy(); };
 	const double e0 = energy();
 	PendulumRun run;
 	std::vector<double> turns;
 	double previousRate = 0;
-	const btScalar dt = btScalar(1) / 60;
+	const btScalar dt = kTimeStep;
 	for (int step = 1; step <= 600; ++step)
 	{
-		scene.world().stepSimulation(dt, 0, dt);
+		pendulum.step();
 		const double rate = bar->getAngularVelocity().z();
 		if (previousRate < 0 && rate >= 0) turns.push_back(step * double(dt));  // lowest angle on the release side
 		previousRate = rate;
@@ -109,21 +129,10 @@ TEST(Stabilizer, ConserveEnergyTakesBackTheWorkOfAPush)
 	// for 2 s by a 5 N force along its velocity (work F·v dt, summed): without the option the energy gains most of
 	// that work (the stabilizer's own losses aside), with it nearly none.
 	auto run = [](bool conserveEnergy, double& work) {
-		StabilizerScene scene;
-		btRigidBody* bar = scene.chain(1)[0];
-		btQuaternionHingeStabilizerSettings settings;
-		settings.conserveEnergy = conserveEnergy;
-		btQuaternionHingeStabilizer stabilizer(settings);
-		scene.addAction(&stabilizer);
-		auto energy = [&]() {
-			const btVector3 local = bar->getCenterOfMassTransform().getBasis().transpose() * bar->getAngularVelocity();
-			const btVector3& inv = bar->getInvInertiaDiagLocal();
-			double e = 0.5 * bar->getLinearVelocity().length2() + 10 * bar->getCenterOfMassPosition().y();  // 1 kg
-			for (int i = 0; i < 3; ++i) e += 0.5 * local[i] * local[i] / inv[i];
-			return e;
-		};
-		for (int step = 0; step < 60; ++step) scene.world().stepSimulation(kTimeStep, 0, kTimeStep);
-		const double before = energy();
+		BarPendulum pendulum(conserveEnergy);
+		btRigidBody* bar = pendulum.bar;
+		for (int step = 0; step < 60; ++step) pendulum.step();
+		const double before = pendulum.energy();
 		work = 0;
 		for (int step = 0; step < 120; ++step)
 		{
@@ -134,9 +143,9 @@ TEST(Stabilizer, ConserveEnergyTakesBackTheWorkOfAPush)
 				bar->applyCentralForce(force);
 				work += force.dot(v) * kTimeStep;
 			}
-			scene.world().stepSimulation(kTimeStep, 0, kTimeStep);
+			pendulum.step();
 		}
-		return energy() - before;
+		return pendulum.energy() - before;
 	};
 	double workOff = 0, workOn = 0;
 	const double gainOff = run(false, workOff), gainOn = run(true, workOn);
