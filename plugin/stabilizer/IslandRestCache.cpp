@@ -85,9 +85,11 @@ void gatherInputs(const Island& island, btScalar timeStep, Array<btScalar>& out)
 	btAssert(g.at == out.data() + n);
 }
 
+const size_t kOutputsPerBody = 12 + 3 + 3;  // transform, linear and angular velocity
+
 void gatherOutputs(const Island& island, Array<btScalar>& out)
 {
-	const size_t n = 18 * island.bodies.size();
+	const size_t n = kOutputsPerBody * island.bodies.size();
 	if (out.size() != n) out.resize(n);
 	Gather g{out.data()};
 	for (const IslandBody& b : island.bodies)
@@ -97,8 +99,6 @@ void gatherOutputs(const Island& island, Array<btScalar>& out)
 		g.add(b.rigid->getAngularVelocity());
 	}
 }
-
-const int kOutputsPerBody = 18;  // transform (12), linear and angular velocity (6)
 
 btVector3 vectorAt(const btScalar* p) { return btVector3(p[0], p[1], p[2]); }
 }  // namespace
