@@ -18,6 +18,9 @@
 #include "BulletAllocator.h"
 #include <Eigen/Core>
 
+#include <type_traits>
+#include <utility>
+
 
 namespace quathinge
 {
@@ -56,6 +59,20 @@ decltype(auto) logicalRows(const M& m)
 {
 	if constexpr (int(M::RowsAtCompileTime) == R) return (m);
 	else return m.template topRows<R>();
+}
+
+/// Calls f(std::integral_constant<int, I>{}) for I = 0 … N − 1, unrolled at compile time, so that a loop over a
+/// block's columns works on fixed-size segments (whole SSE2 pairs of doubles, no index arithmetic): the block kernels
+/// of the assembly (IslandSystem.h) and the factorization (BlockLDLT.cpp).
+template <class F, int... I>
+inline void unrollEach(F&& f, std::integer_sequence<int, I...>)
+{
+	(f(std::integral_constant<int, I>{}), ...);
+}
+template <int N, class F>
+inline void unroll(F&& f)
+{
+	unrollEach(f, std::make_integer_sequence<int, N>{});
 }
 
 /// The block structure of a symmetric matrix: diagonal blocks and the lower blocks present, column by column.

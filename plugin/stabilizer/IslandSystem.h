@@ -29,12 +29,32 @@ void computeDirections(BlockIsland<R>& island)
 	}
 }
 
+// dst (+)= A h for one joint side: A = the angular columns [first, first + 3) of a joint's J (R rows), h = M_b⁻¹ Aᵀ's
+// angular part (3 × R). lowerOnly: only the entries on or below the diagonal (a diagonal block of K: nothing reads the
+// others, see BlockLDLT.cpp), from the SSE2 pair holding the diagonal entry down. Column c is Σ_k A's column k h(k, c).
+template <int R, bool lowerOnly, bool accumulate>
+inline void addSideProduct(Block<R>& dst, const JointJacobian<R>& jacobian, int first,
+						   const Eigen::Matrix<double, 3, R>& h)
+{
+	constexpr int kStorage = BlockShape<R>::kStorageRows;
+	unroll<R>([&](auto ci) {
+		constexpr int c = decltype(ci)::value;
+		constexpr int top = lowerOnly ? c / 2 * 2 : 0;
+		constexpr int rows = kStorage - top;
+		auto column = dst.col(c).template segment<rows>(top);
+		const auto sum = (jacobian.col(first).template segment<rows>(top) * h(0, c) +
+						  jacobian.col(first + 1).template segment<rows>(top) * h(1, c) +
+						  jacobian.col(first + 2).template segment<rows>(top) * h(2, c));
+		if constexpr (accumulate) column += sum;
+		else column = sum;
+	});
+}
+
 // K = J M⁻¹ Jᵀ + regularization into island.k (the directions must be current). Returns the scale s.
 // Per pair of joint sides on body b: J_i M_b⁻¹ J_jᵀ = σ_i σ_j diag(m_b⁻¹) (top-left 3×3) + A_i h_j.
 template <int R>
 double assemble(BlockIsland<R>& island, double regularization)
 {
-	constexpr int kStorage = BlockShape<R>::kStorageRows;
 	double trace = 0;
 	int activeRows = 0;
 	for (size_t j = 0; j < island.joints.size(); ++j)
@@ -42,14 +62,17 @@ double assemble(BlockIsland<R>& island, double regularization)
 		const JointSlot& js = island.joints[j];
 		const JointBlock<R>& jb = island.blocks[j];
 		Block<R>& d = island.k.diag[j];
-		d.setZero();
+		// the lower triangle only (whole storage columns: their storage rows are zero in J)
+		bool first = true;
 		for (int s = 0; s < 2; ++s)
 		{
 			if (js.body[s] < 0) continue;
-			// whole storage columns (their storage rows are zero in J): vectorized
-			d.noalias() += jb.jacobian.template block<kStorage, 3>(0, 6 * s + 3) * jb.h[s];
+			if (first) addSideProduct<R, true, false>(d, jb.jacobian, 6 * s + 3, jb.h[s]);
+			else addSideProduct<R, true, true>(d, jb.jacobian, 6 * s + 3, jb.h[s]);
+			first = false;
 			if (js.linearSign[s] != 0) d.template topLeftCorner<3, 3>().diagonal() += island.bodies[js.body[s]].invMass;
 		}
+		if (first) d.setZero();  // no movable side (not in an island; kept total)
 		for (int r = 0; r < js.bilateralRows; ++r) trace += d(r, r);
 		activeRows += js.bilateralRows;
 		if (js.limitSlot && js.limitActive)
@@ -64,8 +87,7 @@ double assemble(BlockIsland<R>& island, double regularization)
 		const JointSlot& ji = island.joints[c.i];
 		const JointSlot& jj = island.joints[c.j];
 		Block<R>& b = island.k.lower[c.block];
-		b.noalias() +=
-			island.blocks[c.i].jacobian.template block<kStorage, 3>(0, 6 * c.sideI + 3) * island.blocks[c.j].h[c.sideJ];
+		addSideProduct<R, false, true>(b, island.blocks[c.i].jacobian, 6 * c.sideI + 3, island.blocks[c.j].h[c.sideJ]);
 		const double sign = ji.linearSign[c.sideI] * jj.linearSign[c.sideJ];
 		if (sign != 0)
 			b.template topLeftCorner<3, 3>().diagonal() += sign * island.bodies[ji.body[c.sideI]].invMass;
