@@ -111,6 +111,8 @@ bool replayIfAtRest(Island& island, btScalar timeStep, ProjectionResult& result)
 					  std::memcmp(cache.current.data(), cache.inputs.data(), cache.current.size() * sizeof(btScalar)) == 0;
 	if (!same)
 	{
+		// the island's first step: both arrays get their size now, so that no later swap leaves one to grow
+		if (cache.inputs.size() != cache.current.size()) cache.inputs.resize(cache.current.size());
 		cache.inputs.swap(cache.current);
 		cache.valid = false;
 		return false;

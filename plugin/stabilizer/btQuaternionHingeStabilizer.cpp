@@ -123,7 +123,7 @@ const btQuaternionHingeStabilizerStats& btQuaternionHingeStabilizer::stabilize(b
 	if (!impl.built || impl.scan.size() != impl.signature.size() ||
 		!std::equal(impl.scan.begin(), impl.scan.end(), impl.signature.begin()))
 	{
-		impl.signature.swap(impl.scan);
+		impl.signature = impl.scan;  // a copy, not a swap: both keep their capacity (no allocation the next step)
 		buildIslands(impl.signature, m_settings.solver == BT_QHSTAB_SOLVER_SPARSE_LDLT, impl.islands);
 		impl.bodyOf.clear();
 		for (const auto& island : impl.islands)
