@@ -141,29 +141,33 @@ inline void multiplyByUnitLowerTranspose(Block<R>& w, const Block<R>& x)
 {
 	unroll<R>([&](auto ci) {
 		constexpr int c = R - 1 - decltype(ci)::value;
+		BlockVector<R> column = w.col(c);
 		unroll<c>([&](auto qi) {
 			constexpr int q = decltype(qi)::value;
-			w.col(c) += x(c, q) * w.col(q);
+			column += x(c, q) * w.col(q);
 		});
+		w.col(c) = column;
 	});
 }
 
-// target −= A Vᵀ (A = V_ik P⁻¹, V = V_jk, both R logical rows). lowerOnly: only the entries on or below the diagonal
-// are needed (a diagonal block: factorBlock and the next updates read no other), computed in whole SSE2 pairs from the
-// pair holding the diagonal entry down.
-template <int R, bool lowerOnly>
-inline void subtractProduct(Block<R>& target, const Block<R>& a, const Block<R>& v)
+// A diagonal block's K_ii −= A Vᵀ (A = V_ik P⁻¹, V = V_ik): only the entries on or below the diagonal, all that
+// factorBlock and the later updates read, computed in whole SSE2 pairs from the pair holding the diagonal entry down.
+// (A lower block's update is Eigen's dense product: this column loop measured slower there.)
+template <int R>
+inline void subtractProductLower(Block<R>& target, const Block<R>& a, const Block<R>& v)
 {
 	constexpr int kStorage = BlockShape<R>::kStorageRows;
 	unroll<R>([&](auto ci) {
 		constexpr int c = decltype(ci)::value;
-		constexpr int first = lowerOnly ? c / 2 * 2 : 0;
+		constexpr int first = c / 2 * 2;
 		constexpr int rows = kStorage - first;
-		auto column = target.col(c).template segment<rows>(first);
+		// accumulated in registers, stored once (the compiler cannot know that target aliases neither operand)
+		Eigen::Matrix<double, rows, 1> column = target.col(c).template segment<rows>(first);
 		unroll<R>([&](auto qi) {
 			constexpr int q = decltype(qi)::value;
 			column -= v(c, q) * a.col(q).template segment<rows>(first);
 		});
+		target.col(c).template segment<rows>(first) = column;
 	});
 }
 }  // namespace
@@ -190,8 +194,10 @@ int BlockLDLT<R>::factorize(BlockMatrix<R>& k, double pivotFloor)
 		{
 			const Update& up = m_updates[u];
 			// K_ij −= V_i P⁻¹ V_jᵀ
-			if (up.target < 0) subtractProduct<R, true>(k.diag[-1 - up.target], m_w[up.left - first], k.lower[first + up.right]);
-			else subtractProduct<R, false>(k.lower[up.target], m_w[up.left - first], k.lower[first + up.right]);
+			const Block<R>& left = m_w[up.left - first];
+			const Block<R>& right = k.lower[first + up.right];
+			if (up.target < 0) subtractProductLower<R>(k.diag[-1 - up.target], left, right);
+			else k.lower[up.target].noalias() -= left * logicalRows<R>(right).transpose();
 		}
 	}
 	return dropped;

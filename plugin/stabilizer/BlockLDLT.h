@@ -14,7 +14,8 @@
 // numbered leaves first along a tree of bodies: they all share the one body towards the root). analyze() checks it
 // and refuses a pattern that would fill; the caller then uses the general sparse LDLᵀ (SparseLDLT.h).
 // A pivot at or below the pivot floor makes that row inactive (its 1/p is 0, so its λ is 0) instead of dividing by ~0.
-// The diagonal blocks are overwritten by X_k, the lower blocks by V_ik.
+// The diagonal blocks are overwritten by X_k, the lower blocks by V_ik. Only a diagonal block's lower triangle is read
+// (the assembly and the Schur updates write no other; BlockLDLT.cpp), and X_k's unit lower shape is used in V = W Xᵀ.
 #ifndef QUATHINGE_STABILIZER_BLOCK_LDLT_H
 #define QUATHINGE_STABILIZER_BLOCK_LDLT_H
 
