@@ -32,7 +32,7 @@ const btScalar kLimitSlack = btScalar(0.1);              // rad: how far past a 
 #ifdef BT_USE_DOUBLE_PRECISION
 const std::uint64_t kExpectedHash = 0xc34668cad86cd077ULL;
 #else
-const std::uint64_t kExpectedHash = 0x4de322a6e5c24663ULL;
+const std::uint64_t kExpectedHash = 0x484b9fc9a73a2630ULL;
 #endif
 
 // 64-bit FNV-1a.

@@ -80,6 +80,13 @@ void symmetricEigenvectors(double (&k)[5][5], double (&v)[5][5], int n)
 	}
 }
 
+// The body's inverse inertia about w (world), as the solver sees it (its angular factor applied, as the spring's
+// effective mass in fillRows): wᵀ I⁻¹ w.
+btScalar inverseInertiaAbout(const btRigidBody& body, const btVector3& w)
+{
+	return w.dot(body.getInvInertiaTensorWorld() * w * body.getAngularFactor());
+}
+
 bool isStaticLike(const btRigidBody& body)
 {
 	return body.getInvMass() == 0 && body.getInvInertiaDiagLocal().isZero();
@@ -280,25 +287,41 @@ int btQuaternionHingeConstraint::fillBilateralRows(btConstraintInfo2* info, cons
 		// δ a changes a point row by −δ (a × e)·(ω_B − ω_A), which vanishes wherever the quaternion rows hold; written
 		// here as an exact row operation with them (the point row minus δ (c_u u' + c_v v') on both the Jacobian and
 		// the error, c the combination of the quaternion rows nearest a × e), so the rows keep their solution set and
-		// their exactness (SolverRowBasis.h: a change of row basis held for the step). δ as stock's: the arms' axial
-		// offsets blended by inverse mass (a static side keeps its own; the dynamic side's axial arm becomes 0).
+		// their exactness (SolverRowBasis.h: a change of row basis held for the step).
+		// δ, per point row e: after the shift the arms' axial parts are α_X = axial_X − δ, and the row turns body X
+		// through α_X about w = a × e, which adds α_A² i_A + α_B² i_B to its effective mass and α_A i_A + α_B i_B to its
+		// coupling with the quaternion rows (i_X = wᵀ I_X⁻¹ w: body X's inverse inertia about w). Both are least at
+		// δ = (axial_A i_A + axial_B i_B) / (i_A + i_B), the axial offsets blended by inverse inertia about w; a static
+		// side has none, so the dynamic side's axial arm becomes 0. (Stock blends them by inverse mass, which gives the
+		// lever to the lighter body however small its inertia: a 0.2 kg puck, 3e-4 kg·m², locked to the end of a 1 m
+		// arm whose centre of mass lies on the axis took 0.29 m of the arm's 1 m, the row operation carried 0.29 m
+		// times the puck's angular error into the point rows, and the joints separated 1.7–2.1× more than stock's
+		// (issue 16, two_joint_robot); blended by inertia the puck's share is 0.004–0.02 m. docs/ROW_BASIS.md.)
 		const Lanes c = pivotB - pivotA;
-		const btScalar invMassSum = invMassA + invMassB;
-		const btScalar weightA = invMassSum > btScalar(0) ? invMassB / invMassSum : btScalar(0.5);
 		const btScalar axialA = dotXyz(hingeAxis, rA), axialB = dotXyz(hingeAxis, rB);
-		const btScalar delta = axialA - (axialA - axialB) * weightA;
 		const btScalar uu = dotXyz(turnedU, turnedU), uv = dotXyz(turnedU, turnedV), vv = dotXyz(turnedV, turnedV);
 		const btScalar det = uu * vv - uv * uv;
 		// (not for an offset at round-off level, 8 ε of the arms: a chain whose pivots lie across its axes keeps its bits)
 		const btScalar roundOff = btScalar(8) * SIMD_EPSILON * (btSqrt(dotXyz(rA, rA)) + btSqrt(dotXyz(rB, rB)));
 		const bool quaternionRowsIndependent = det > SIMD_EPSILON * uu * vv;
-		const bool shift = btFabs(delta) > roundOff && quaternionRowsIndependent;
+		const bool staticA = invMassA < SIMD_EPSILON, staticB = invMassB < SIMD_EPSILON;  // as stock
+		// δ lies between the two axial offsets, so none beyond round-off needs no shift
+		const bool shift = quaternionRowsIndependent && (btFabs(axialA) > roundOff || btFabs(axialB) > roundOff);
+		auto axialShift = [&](const Lanes& w) {
+			if (staticA) return axialB;  // (not both static: such a joint has no rows)
+			if (staticB) return axialA;
+			btVector3 about;
+			storeLanes(about, w);
+			const btScalar inertiaA = inverseInertiaAbout(m_rbA, about), inertiaB = inverseInertiaAbout(m_rbB, about);
+			const btScalar sum = inertiaA + inertiaB;
+			// neither body turns about w: no shift changes the solve, none is taken
+			return sum > btScalar(0) ? (axialA * inertiaA + axialB * inertiaB) / sum : btScalar(0);
+		};
 		// A joint to a static body (a one-body hinge, a door on the world): stock takes the lever arm off the axial row
 		// altogether ("to make constraint between static and dynamic objects more rigid"), and so does this, exactly:
 		// the arm's part a × r lies across the axis, in the quaternion rows' span where they hold, so the axial row
 		// takes off the multiple of them that cancels its dynamic side's angular part (a door 12.3 m from its pivot,
 		// gravity along the axis: its pivot sagged 0.016 m at 10 iterations, where stock's holds).
-		const bool staticA = m_rbA.getInvMass() < SIMD_EPSILON, staticB = m_rbB.getInvMass() < SIMD_EPSILON;  // as stock
 		const bool freeAxialArm = axisRow && staticA != staticB && quaternionRowsIndependent;
 		// The row operation both take: the point row minus c_u, c_v times the quaternion rows (A side −u', −v', B side
 		// +u', +v', errors errorU, errorV), (c_u, c_v) = scale × the coefficients of w's projection on (u', v'); w by
@@ -320,7 +343,12 @@ int btQuaternionHingeConstraint::fillBilateralRows(btConstraintInfo2* info, cons
 			Lanes angularA = crossLanes(e, rA), angularB = crossLanes(rB, e);
 			btScalar error = -errorScale(kLinearKind + i) * dotXyz(e, c);
 			// the arms' axial offset δ: w = a × e (a × a = 0: the axial row needs none)
-			if (shift && (i < 2 || !axisRow)) takeOffQuaternionRows(crossLanes(hingeAxis, e), delta, angularA, angularB, error);
+			if (shift && (i < 2 || !axisRow))
+			{
+				const Lanes w = crossLanes(hingeAxis, e);
+				const btScalar delta = axialShift(w);
+				if (btFabs(delta) > roundOff) takeOffQuaternionRows(w, delta, angularA, angularB, error);
+			}
 			// the axial row's whole lever on the dynamic side, J1 (A) or J2 (B): A's + g = 0, or B's − g = 0
 			if (freeAxialArm && i == 2)
 				takeOffQuaternionRows(staticB ? -angularA : angularB, btScalar(1), angularA, angularB, error);
