@@ -32,7 +32,7 @@ const btScalar kLimitSlack = btScalar(0.1);              // rad: how far past a 
 #ifdef BT_USE_DOUBLE_PRECISION
 const std::uint64_t kExpectedHash = 0x7dc84397b43e57f3ULL;
 #else
-const std::uint64_t kExpectedHash = 0x484b9fc9a73a2630ULL;
+const std::uint64_t kExpectedHash = 0xb4b876b2c7cee880ULL;
 #endif
 
 // 64-bit FNV-1a.

@@ -289,16 +289,23 @@ int btQuaternionHingeConstraint::fillBilateralRows(btConstraintInfo2* info, cons
 		// the error, c the combination of the quaternion rows nearest a × e), so the rows keep their solution set and
 		// their exactness (SolverRowBasis.h: a change of row basis held for the step).
 		// δ, per point row e: after the shift the arms' axial parts are α_X = axial_X − δ, and the row turns body X
-		// through α_X about w = a × e, which adds α_A² i_A + α_B² i_B to its effective mass and α_A i_A + α_B i_B to its
-		// coupling with the quaternion rows (i_X = wᵀ I_X⁻¹ w: body X's inverse inertia about w). Both are least at
-		// δ = (axial_A i_A + axial_B i_B) / (i_A + i_B), the axial offsets blended by inverse inertia about w; a static
-		// side has none, so the dynamic side's axial arm becomes 0. (Stock blends them by inverse mass, which gives the
-		// lever to the lighter body however small its inertia: a 0.2 kg puck, 3e-4 kg·m², locked to the end of a 1 m
-		// arm whose centre of mass lies on the axis took 0.29 m of the arm's 1 m, the row operation carried 0.29 m
-		// times the puck's angular error into the point rows, and the joints separated 1.7–2.1× more than stock's
-		// (issue 16, two_joint_robot); blended by inertia the puck's share is 0.004–0.02 m. docs/ROW_BASIS.md.)
+		// through α_X about w = a × e, which adds α_X² i_X to the row's effective inverse mass (i_X = wᵀ I_X⁻¹ w: body
+		// X's inverse inertia about w) beside the translational 1/m_A + 1/m_B. δ is stock's, the axial offsets blended
+		// by inverse mass (a static side keeps its own; the dynamic side's axial arm becomes 0), wherever that keeps
+		// each body's share α_X² i_X within the translational part; else the blend nearest it that does, or where none
+		// does, the one that makes the larger share least (α_A² i_A = α_B² i_B). The mass blend alone gives the lever
+		// to the lighter body however small its inertia: a 0.2 kg puck, 3e-4 kg·m², locked to the end of a 1 m arm
+		// whose centre of mass lies on the axis took 0.29 m of the arm's 1 m (α² i = 250 against 7 kg⁻¹), the row
+		// operation carried 0.29 m times the puck's angular error into the point rows, and the joints separated
+		// 1.7–2.1× more than stock's (issue 16, two_joint_robot; docs/ROW_BASIS.md); now the puck keeps 0.06–0.12 m.
+		// (The blend by inverse inertia, which makes the row's effective mass least, fixes that robot too but raised
+		// the ragdoll's misalignment, whose mass-blended levers are within the bound: 16 seeds, 50 iterations, RMS
+		// 1.16 → 1.48× stock's.)
 		const Lanes c = pivotB - pivotA;
+		const btScalar invMassSum = invMassA + invMassB;
+		const btScalar weightA = invMassSum > btScalar(0) ? invMassB / invMassSum : btScalar(0.5);
 		const btScalar axialA = dotXyz(hingeAxis, rA), axialB = dotXyz(hingeAxis, rB);
+		const btScalar massBlend = axialA - (axialA - axialB) * weightA;
 		const btScalar uu = dotXyz(turnedU, turnedU), uv = dotXyz(turnedU, turnedV), vv = dotXyz(turnedV, turnedV);
 		const btScalar det = uu * vv - uv * uv;
 		// (not for an offset at round-off level, 8 ε of the arms: a chain whose pivots lie across its axes keeps its bits)
@@ -308,14 +315,28 @@ int btQuaternionHingeConstraint::fillBilateralRows(btConstraintInfo2* info, cons
 		// δ lies between the two axial offsets, so none beyond round-off needs no shift
 		const bool shift = quaternionRowsIndependent && (btFabs(axialA) > roundOff || btFabs(axialB) > roundOff);
 		auto axialShift = [&](const Lanes& w) {
-			if (staticA) return axialB;  // (not both static: such a joint has no rows)
-			if (staticB) return axialA;
+			if (staticA || staticB) return massBlend;  // the static side has no share
 			btVector3 about;
 			storeLanes(about, w);
 			const btScalar inertiaA = inverseInertiaAbout(m_rbA, about), inertiaB = inverseInertiaAbout(m_rbB, about);
-			const btScalar sum = inertiaA + inertiaB;
-			// neither body turns about w: no shift changes the solve, none is taken
-			return sum > btScalar(0) ? (axialA * inertiaA + axialB * inertiaB) / sum : btScalar(0);
+			// body X's share stays within invMassSum while |axial_X − δ| ≤ reach_X
+			btScalar low = -BT_LARGE_FLOAT, high = BT_LARGE_FLOAT;
+			if (inertiaA > btScalar(0))
+			{
+				const btScalar reach = btSqrt(invMassSum / inertiaA);
+				low = axialA - reach;
+				high = axialA + reach;
+			}
+			if (inertiaB > btScalar(0))
+			{
+				const btScalar reach = btSqrt(invMassSum / inertiaB);
+				low = btMax(low, axialB - reach);
+				high = btMin(high, axialB + reach);
+			}
+			if (low <= high) return btMax(low, btMin(high, massBlend));
+			// no blend meets both: equal shares, |α_A| √i_A = |α_B| √i_B (both inertias are positive here)
+			const btScalar rootA = btSqrt(inertiaA), rootB = btSqrt(inertiaB);
+			return (axialA * rootA + axialB * rootB) / (rootA + rootB);
 		};
 		// A joint to a static body (a one-body hinge, a door on the world): stock takes the lever arm off the axial row
 		// altogether ("to make constraint between static and dynamic objects more rigid"), and so does this, exactly:
