@@ -17,9 +17,10 @@
 // M·J and the errors M·C, where J = ∂C/∂v is exact (MATH.md Q4–Q10, Q12). M is taken at the current pose and held
 // for the step (as every solver holds its rows), so M·J is the derivative of M·C at fixed M — what the finite-difference
 // test checks. The lever arms' axial parts, which stock drops by blending the arms by mass, are taken off by a row
-// operation instead (fillBilateralRows: each point row minus the multiple of the quaternion rows those parts add;
-// the same kind of change of row basis, not orthogonal but held for the step as M is), and a is joint frame A's z as
-// it is (stock blends A's and B's axes; no blend is needed for a basis).
+// operation instead (fillBilateralRows: each point row minus the multiple of the quaternion rows those parts add,
+// both arms moved to stock's mass-blended axial offset, kept within a bound on each body's rotational share of the
+// row; the same kind of change of row basis, not orthogonal but held for the step as M is), and a is joint frame A's
+// z as it is (stock blends A's and B's axes; no blend is needed for a basis).
 //   point part:       rows e·(v_B + ω_B × r_B − v_A − ω_A × r_A) for e ∈ {p, t, a}, error e·(p_B − p_A)
 //   quaternion part:  the two Q7 rows (u, v) (or their log form past 90°, Q12) as derived: along joint frame A's
 //                     x̂ and ŷ (to first order), fixed in body A rather than in the lever arms.
