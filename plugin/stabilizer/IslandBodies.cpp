@@ -17,6 +17,8 @@ namespace stabilizer
 // (M + M_ref)⁻¹ as well: every body made as heavy as the island's heaviest (m_ref, I_ref), so a correction no longer
 // prefers swinging light bodies a long way (m⁻¹ → m⁻¹/(1 + m⁻¹ m_ref), the same per inertia axis; an infinite mass
 // stays infinite).
+namespace
+{
 void loadInverseMass(IslandBody& b, const Island& island)
 {
 	const btRigidBody& body = *b.rigid;
@@ -39,10 +41,12 @@ void loadInverseMass(IslandBody& b, const Island& island)
 	}
 	b.invInertia.noalias() = sr * invInertiaLocal.asDiagonal() * sr.transpose();
 }
+}  // namespace
 
 void loadInverseMasses(Island& island)
 {
 	for (IslandBody& b : island.bodies) loadInverseMass(b, island);
+	island.inverseMassesStale = false;
 }
 
 void findReferenceMass(Island& island)
@@ -62,12 +66,12 @@ namespace
 {
 // A body's pose during the iterations: its transform and its interpolation transform (what the world hands to its
 // motion state). Bullet's own world inverse inertia is refreshed once, when the projection is done
-// (finishPositions); the iterations use loadInverseMass's.
-void setPose(IslandBody& b, const Island& island, const btTransform& t)
+// (finishPositions); the iterations use loadInverseMass's, reloaded when next needed (Island::inverseMassesStale:
+// a metric switch right after a move would otherwise load them twice).
+void setPose(IslandBody& b, const btTransform& t)
 {
 	b.rigid->setWorldTransform(t);
 	b.rigid->setInterpolationWorldTransform(t);
-	loadInverseMass(b, island);
 }
 }  // namespace
 
@@ -78,7 +82,8 @@ void saveTransforms(Island& island)
 
 void restoreTransforms(Island& island)
 {
-	for (IslandBody& b : island.bodies) setPose(b, island, b.saved);
+	for (IslandBody& b : island.bodies) setPose(b, b.saved);
+	island.inverseMassesStale = true;
 }
 
 void finishPositions(Island& island)
@@ -103,8 +108,9 @@ double movePositions(Island& island, double step)
 		q += (dtheta * q) * btScalar(0.5);
 		q.normalize();
 		t.setRotation(q);
-		setPose(b, island, t);
+		setPose(b, t);
 	}
+	island.inverseMassesStale = true;
 	return largest;
 }
 

@@ -10,8 +10,7 @@ namespace quathinge
 {
 namespace stabilizer
 {
-/// Loads b's M⁻¹ in the island's current metric (IslandBody::invMass, invInertia); loadInverseMasses: every body.
-void loadInverseMass(IslandBody& b, const Island& island);
+/// Loads every body's M⁻¹ in the island's current metric (IslandBody::invMass, invInertia).
 void loadInverseMasses(Island& island);
 /// The heaviest body's mass and largest principal inertia: the stiff metric's reference.
 void findReferenceMass(Island& island);

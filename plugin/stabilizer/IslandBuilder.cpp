@@ -191,6 +191,11 @@ bool prepareBlocks(BlockIsland<R>& island)
 	zero.h[0].setZero();
 	zero.h[1].setZero();
 	island.blocks.assign(island.joints.size(), zero);
+	// J's linear part never changes (JointSlot::linearSign: the point rows' ±I, zero elsewhere): written once here;
+	// evaluatePositions copies only the angular part
+	for (size_t j = 0; j < island.joints.size(); ++j)
+		for (int side = 0; side < 2; ++side)
+			for (int r = 0; r < 3; ++r) island.blocks[j].jacobian(r, 6 * side + r) = island.joints[j].linearSign[side];
 	island.k.resize(island.pattern);
 	island.lambda.assign(island.joints.size(), BlockVector<R>::Zero());
 	return island.block.analyze(island.pattern);

@@ -60,7 +60,12 @@ PositionResidual evaluatePositions(BlockIsland<R>& island, btScalar tolerance)
 		for (int r = 0; r < rows; ++r)
 		{
 			jb.c[r] = c[r];
-			for (int k = 0; k < 12; ++k) jb.jacobian(r, k) = jac[12 * r + k];
+			// the angular part (the linear part is fixed, written when the island was built: IslandBuilder.cpp)
+			for (int k = 0; k < 3; ++k)
+			{
+				jb.jacobian(r, 3 + k) = jac[12 * r + 3 + k];
+				jb.jacobian(r, 9 + k) = jac[12 * r + 9 + k];
+			}
 			btScalar& worst = r < linearRows ? linear : angular;
 			worst = btMax(worst, btFabs(c[r]));
 		}

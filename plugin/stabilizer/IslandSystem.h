@@ -4,6 +4,7 @@
 #ifndef QUATHINGE_STABILIZER_ISLAND_SYSTEM_H
 #define QUATHINGE_STABILIZER_ISLAND_SYSTEM_H
 
+#include "IslandBodies.h"
 #include "StabilizerIsland.h"
 
 namespace quathinge
@@ -18,6 +19,7 @@ const double kPivotFloor = 1e-13;
 template <int R>
 void computeDirections(BlockIsland<R>& island)
 {
+	if (island.inverseMassesStale) loadInverseMasses(island);
 	for (size_t j = 0; j < island.joints.size(); ++j)
 	{
 		const JointSlot& js = island.joints[j];

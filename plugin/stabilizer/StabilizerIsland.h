@@ -172,6 +172,8 @@ struct Island
 	bool stiffMetric = false;
 	// The position correction's inertia factor (1: M's inertia; the velocities always use 1).
 	double rotationWeight = 1;
+	// The bodies moved since their M⁻¹ was loaded (IslandBodies.cpp): computeDirections loads it again first.
+	bool inverseMassesStale = false;
 	double referenceMass = 0;     // kg: the heaviest body's mass
 	double referenceInertia = 0;  // kg·m²: the largest principal inertia of any body
 	// conserveEnergy (EnergyProjection.cpp): the energy the island had when first projected (J).
