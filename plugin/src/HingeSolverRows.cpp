@@ -312,10 +312,27 @@ int btQuaternionHingeConstraint::fillBilateralRows(btConstraintInfo2* info, cons
 		const btScalar roundOff = btScalar(8) * SIMD_EPSILON * (btSqrt(dotXyz(rA, rA)) + btSqrt(dotXyz(rB, rB)));
 		const bool quaternionRowsIndependent = det > SIMD_EPSILON * uu * vv;
 		const bool staticA = invMassA < SIMD_EPSILON, staticB = invMassB < SIMD_EPSILON;  // as stock
-		// δ lies between the two axial offsets, so none beyond round-off needs no shift
-		const bool shift = quaternionRowsIndependent && (btFabs(axialA) > roundOff || btFabs(axialB) > roundOff);
+		// The mass blend holds for every row when it holds against each body's largest inverse inertia (|w| ≤ 1): the
+		// common case, decided once here instead of per row (a margin of 1e-3 covers the rounding of the exact test).
+		// δ lies between the two axial offsets, so none beyond round-off needs no shift; nor does a mass blend that
+		// holds at round-off level (symmetric arms of equal bodies: δ = 0).
+		auto largestInverseInertia = [](const btRigidBody& body) {
+			const btVector3& d = body.getInvInertiaDiagLocal();
+			const btVector3& f = body.getAngularFactor();
+			return btMax(d[0], btMax(d[1], d[2])) * btMax(btFabs(f[0]), btMax(btFabs(f[1]), btFabs(f[2])));
+		};
+		const bool axialOffsets = quaternionRowsIndependent && (btFabs(axialA) > roundOff || btFabs(axialB) > roundOff);
+		bool massBlendHolds = true;
+		if (axialOffsets && !staticA && !staticB)  // a static side has no share
+		{
+			const btScalar alphaA = axialA - massBlend, alphaB = axialB - massBlend;
+			const btScalar shareBound = btScalar(0.999) * invMassSum;
+			massBlendHolds = alphaA * alphaA * largestInverseInertia(m_rbA) <= shareBound &&
+							 alphaB * alphaB * largestInverseInertia(m_rbB) <= shareBound;
+		}
+		const bool shift = axialOffsets && (!massBlendHolds || btFabs(massBlend) > roundOff);
 		auto axialShift = [&](const Lanes& w) {
-			if (staticA || staticB) return massBlend;  // the static side has no share
+			if (massBlendHolds) return massBlend;
 			btVector3 about;
 			storeLanes(about, w);
 			const btScalar inertiaA = inverseInertiaAbout(m_rbA, about), inertiaB = inverseInertiaAbout(m_rbB, about);
