@@ -181,6 +181,12 @@ struct IslandStep
 				factorAge += movePositions(island, step);
 				++result.iterations;
 				res = evaluatePositions(island, settings.tolerance);
+				// The step took a joint past a stop that K did not have (the active set grew): the residual now counts
+				// that new row, so it is no measure of the step (a correct step measured "worse" here was halved, undone
+				// and retried in the stiff metric, and could end the loop unconverged). Keep it; the next iteration
+				// factorizes with the row. The active set only grows within a step, so this happens at most once per
+				// limit.
+				if (res.limitsChanged) continue;
 				// Backtracking: a step that makes ‖C‖ worse (far from the solution in a nearly singular pose, e.g. a taut
 				// chain, the linearization overshoots) is halved, at most kMaxHalvings times, else undone.
 				for (int halving = 0; res.normalized >= start.normalized && halving < kMaxHalvings; ++halving)
