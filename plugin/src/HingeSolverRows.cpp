@@ -194,7 +194,7 @@ void btQuaternionHingeConstraint::getInfo2NonVirtual(btConstraintInfo2* info, co
 }
 
 int btQuaternionHingeConstraint::fillBilateralRows(btConstraintInfo2* info, const btTransform& transA,
-												  const btTransform& transB, const Pose& pose) const
+												  const btTransform& transB, const Pose& pose, bool atStop) const
 {
 	// pose: joint frame A's basis and both pivots in world; q = a* ⊗ b (Q2).
 	const int skip = info->rowskip;
@@ -390,6 +390,18 @@ int btQuaternionHingeConstraint::fillBilateralRows(btConstraintInfo2* info, cons
 			// the axial row's whole lever on the dynamic side, J1 (A) or J2 (B): A's + g = 0, or B's − g = 0
 			if (freeAxialArm && i == 2)
 				takeOffQuaternionRows(staticB ? -angularA : angularB, btScalar(1), angularA, angularB, error);
+			if (atStop && axisRow && i == 1 && staticA != staticB && quaternionRowsIndependent)
+			{
+				const Lanes alpha =
+					pose.axialKnown ? lanesOf(pose.axial) : timesTransposed(pose.axesA, axialRowDirection(pose.q));
+				const btScalar alpha2 = dotXyz(alpha, alpha);
+				if (alpha2 > SIMD_EPSILON)
+				{
+					Lanes& lever = staticB ? angularA : angularB;
+					lever -= alpha * (dotXyz(lever, alpha) / alpha2);
+					takeOffQuaternionRows(staticB ? -angularA : angularB, btScalar(1), angularA, angularB, error);
+				}
+			}
 			storeXyz(info->m_J1linearAxis + at, -e);
 			storeXyz(info->m_J2linearAxis + at, e);
 			storeXyz(info->m_J1angularAxis + at, angularA);
@@ -527,16 +539,28 @@ void btQuaternionHingeConstraint::fillRows(btConstraintInfo2* info, const btTran
 	if (!m_poseCached) poseAt(transA, transB, computed);
 	const Pose& pose = m_poseCached ? m_pose : computed;
 	m_poseCached = false;  // the cache belongs to this getInfo1/getInfo2 pair
-	int row = fillBilateralRows(info, transA, transB, pose);
-	const int skip = info->rowskip;
-
 	// Never more rows than the last getInfo1 reserved (m_numRows), whatever changed since: a setter called between
 	// the two, or getInfo2NonVirtual's own limit test. Dropped first: the limit row, then friction (the order below
-	// writes the drive first).
+	// writes the drive first). Decided before the bilateral rows, which need to know whether a stop row follows.
 	const int budget = m_numRows;
+	int row = m_settings.angularOnly ? 2 : 5;
 	const bool drive = driveActive(m_settings) && row < budget;
 	const bool friction = m_settings.maxFrictionTorque > 0 && row + (drive ? 1 : 0) < budget;
 	const bool limitRowFits = row + (drive ? 1 : 0) + (friction ? 1 : 0) < budget;
+	// A stop that binds this step — the joint at or past it, or reaching it within the step (its distance within
+	// |α̇| h) — on a joint to a static body: the tangential row then drops its lever about the hinge, as stock's does
+	// at a stop (fillBilateralRows). Not for a stop still ahead: the row operation is exact only while the stop holds.
+	bool atStop = false;
+	if (m_limitSign != 0 && limitRowFits && !m_limitLocked &&
+		(m_rbA.getInvMass() < SIMD_EPSILON) != (m_rbB.getInvMass() < SIMD_EPSILON))
+	{
+		const Lanes alpha =
+			pose.axialKnown ? lanesOf(pose.axial) : timesTransposed(pose.axesA, axialRowDirection(pose.q));
+		const btScalar reach = btFabs(dotXyz(alpha, lanesOf(angVelB) - lanesOf(angVelA))) / info->fps;
+		atStop = m_limitDistance <= reach;
+	}
+	row = fillBilateralRows(info, transA, transB, pose, atStop);
+	const int skip = info->rowskip;
 	if ((m_limitSign == 0 || !limitRowFits) && !drive && !friction) return;
 
 	// Axis part: rows along J_α = σ R_A t (HingeAngle.h: the exact gradient of the angle within 90° of assembly).
