@@ -78,6 +78,23 @@ TEST(Stabilizer, ViolatedLimitIsProjectedBackToItsStop)
 	EXPECT_LE(worstExcess, btScalar(kResidualTolerance));  // rad past the stop
 }
 
+// The largest speed (m/s) at which a hinge's two pivots move apart: |v_B + ω_B × r_B − v_A − ω_A × r_A|, from the bodies.
+double pivotSpeedApart(const StabilizerScene& scene)
+{
+	double worst = 0;
+	for (const btQuaternionHingeConstraint* h : scene.hinges())
+	{
+		const btRigidBody& a = h->getRigidBodyA();
+		const btRigidBody& b = h->getRigidBodyB();
+		const btVector3 pivotA = a.getCenterOfMassTransform() * h->getAFrame().getOrigin();
+		const btVector3 pivotB = b.getCenterOfMassTransform() * h->getBFrame().getOrigin();
+		const btVector3 va = a.getVelocityInLocalPoint(pivotA - a.getCenterOfMassPosition());
+		const btVector3 vb = b.getVelocityInLocalPoint(pivotB - b.getCenterOfMassPosition());
+		worst = std::max(worst, double((vb - va).length()));
+	}
+	return worst;
+}
+
 TEST(Stabilizer, IslandsWithAndWithoutLimitsConvergeInOneWorld)
 {
 	// An island with limit slots (6-row blocks) and one without (5-row blocks) are both put back on their joints, and
@@ -113,13 +130,17 @@ TEST(Stabilizer, IslandsWithAndWithoutLimitsConvergeInOneWorld)
 	scene.addAction(&stabilizer);
 	int stepsAtStop = 0;
 	btScalar worstExcess = 0;
-	double worstSeparation = 0, worstMisalignment = 0;
+	double worstSeparation = 0, worstMisalignment = 0, worstPivotSpeed = 0;
 	for (int i = 0; i < 120; ++i)
 	{
 		scene.world().stepSimulation(kTimeStep, 0);
 		const btQuaternionHingeStabilizerStats& s = stabilizer.getLastStats();
 		EXPECT_EQ(s.islands, 2);
 		EXPECT_LE(s.residualAfter, kResidualTolerance);
+		// the velocities too (here the velocity stage also takes limit rows out of a factorized K by solves:
+		// solveDeltasWithoutDroppedRows): each pivot's two sides move together, measured from the bodies
+		EXPECT_LE(s.velocityResidualAfter, kResidualTolerance / kTimeStep);
+		worstPivotSpeed = std::max(worstPivotSpeed, pivotSpeedApart(scene));
 		EXPECT_EQ(s.numericalIssues, 0);
 		if (s.activeLimitRows > 0) ++stepsAtStop;
 		for (size_t k = firstLimited; k < scene.hinges().size(); ++k)
@@ -133,6 +154,7 @@ TEST(Stabilizer, IslandsWithAndWithoutLimitsConvergeInOneWorld)
 	EXPECT_LE(worstExcess, btScalar(kResidualTolerance));  // rad past a stop
 	EXPECT_LE(worstSeparation, kSeparationTolerance);
 	EXPECT_LE(worstMisalignment, kMisalignmentToleranceDeg);
+	EXPECT_LE(worstPivotSpeed, kResidualTolerance / kTimeStep);  // m/s
 }
 
 #endif  // QUATHINGE_HAVE_STABILIZER

@@ -138,14 +138,20 @@ struct IslandStep
 			if (js.limitTouched != 0) return true;
 		return false;
 	}
-	// Q14 with the factorization just made (exact): J v = 0 at the current positions.
+	// Q14 with the factorization just made (exact): J v = 0 at the current positions. Limit rows of K that the
+	// velocities leave out (a stop no longer pushed into) are taken out by solves (solveVelocityDeltas); when that
+	// cannot be done, nothing is projected here and the velocity stage does it.
 	void projectVelocitiesExactly()
 	{
 		const VelocityResidual vres = evaluateVelocities(island, true, settings.timeStep);
 		result.velocityResidualBefore = result.velocityResidualAfter = vres.max;
+		if (vres.normalized <= 1)
+		{
+			velocitiesProjected = true;
+			return;
+		}
+		if (!solveVelocityDeltas(island, vres.limitsChanged, result)) return;
 		velocitiesProjected = true;
-		if (vres.normalized <= 1) return;
-		solveDeltas(island, &JointBlock<R>::jv, result);
 		changeVelocities(island);
 	}
 
@@ -166,10 +172,8 @@ struct IslandStep
 					chordStalled = false;
 					// After the first Newton step the bodies only move by the small rest of the correction: project the
 					// velocities now, with this factorization, and only touch them up at the final positions below
-					// (one factorization fewer than projecting them there from scratch). Not with a limit row in play:
-					// its velocity rule would change K's rows; not in another metric than M.
-					if (settings.velocities && !velocitiesProjected && result.iterations > 0 && !anyLimitTouched() &&
-						positionMetricIsM())
+					// (one factorization fewer than projecting them there from scratch). Not in another metric than M.
+					if (settings.velocities && !velocitiesProjected && result.iterations > 0 && positionMetricIsM())
 						projectVelocitiesExactly();
 				}
 				else
@@ -244,17 +248,21 @@ struct IslandStep
 		bool chordStalled = false, factorizedHere = false;
 		for (int solve = 0; solve < kMaxVelocitySolves && vres.normalized > 1; ++solve)
 		{
-			// The last solve allowed uses a fresh factorization if none was made here.
-			const bool factorNow = chordStalled || factorAge > (velocitiesProjected ? kTouchUpAge : kChordAge) ||
-								   vres.limitsChanged || (solve == kMaxVelocitySolves - 1 && !factorizedHere);
+			// The last solve allowed uses a fresh factorization if none was made here. Limit rows that K has and the
+			// velocities leave out are taken out by solves with its factors (solveVelocityDeltas).
+			bool factorNow = chordStalled || factorAge > (velocitiesProjected ? kTouchUpAge : kChordAge) ||
+							 (solve == kMaxVelocitySolves - 1 && !factorizedHere);
+			if (!factorNow)
+			{
+				computeDirections(island);
+				factorNow = !solveVelocityDeltas(island, vres.limitsChanged, result);
+			}
 			if (factorNow)
 			{
 				if (!factorize()) break;
 				factorizedHere = true;
+				solveDeltas(island, &JointBlock<R>::jv, result);
 			}
-			else
-				computeDirections(island);
-			solveDeltas(island, &JointBlock<R>::jv, result);
 			changeVelocities(island);
 			const btScalar previous = vres.normalized;
 			vres = evaluateVelocities(island, false, settings.timeStep);

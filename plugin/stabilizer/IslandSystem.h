@@ -7,6 +7,8 @@
 #include "IslandBodies.h"
 #include "StabilizerIsland.h"
 
+#include <Eigen/Cholesky>
+
 namespace quathinge
 {
 namespace stabilizer
@@ -124,15 +126,19 @@ bool refactorize(BlockIsland<R>& island, double regularization, ProjectionResult
 	return true;
 }
 
-// λ = K⁻¹(−r) with the current factors, r = C (the position stage) or J v (the velocity stage), then
-// Δ_b = Σ M_b⁻¹ J_bᵀ λ per body (into IslandBody::delta).
+// λ := K⁻¹ λ in place with the current factors.
 template <int R>
-void solveDeltas(BlockIsland<R>& island, BlockVector<R> JointBlock<R>::*rhs, ProjectionResult& result)
+void solveInPlace(BlockIsland<R>& island, ProjectionResult& result)
 {
-	for (size_t j = 0; j < island.joints.size(); ++j) island.lambda[j] = -(island.blocks[j].*rhs);
 	if (island.useSparse) island.sparse->template solve<R>(island.lambda.data());
 	else island.block.solve(island.k, island.lambda.data());
 	++result.solves;
+}
+
+// Δ_b = Σ M_b⁻¹ J_bᵀ λ per body (into IslandBody::delta), from island.lambda.
+template <int R>
+void accumulateDeltas(BlockIsland<R>& island)
+{
 	for (IslandBody& b : island.bodies) b.delta.setZero();
 	for (size_t j = 0; j < island.joints.size(); ++j)
 	{
@@ -147,6 +153,73 @@ void solveDeltas(BlockIsland<R>& island, BlockVector<R> JointBlock<R>::*rhs, Pro
 			b.delta.tail<3>().noalias() += jb.h[s] * lambda.template head<R>();
 		}
 	}
+}
+
+// λ = K⁻¹(−r) with the current factors, r = C (the position stage) or J v (the velocity stage), then
+// Δ_b = Σ M_b⁻¹ J_bᵀ λ per body (into IslandBody::delta).
+template <int R>
+void solveDeltas(BlockIsland<R>& island, BlockVector<R> JointBlock<R>::*rhs, ProjectionResult& result)
+{
+	for (size_t j = 0; j < island.joints.size(); ++j) island.lambda[j] = -(island.blocks[j].*rhs);
+	solveInPlace(island, result);
+	accumulateDeltas(island);
+}
+
+// Limit rows that K was factorized with and that are out of the system now, at most this many: a solve without them
+// costs 2 + (their number) solves with the factors, against a new assembly and factorization (about 6 solves' worth).
+const int kMaxDroppedRows = 4;
+
+// solveDeltas for the velocity stage when limit rows of the factorized K are out of it now (α̇ = 0 applies only to a
+// joint still moving past its stop: IslandRows.h), without a new factorization. With E the unit columns of the dropped
+// rows d, the system without them is K λ = b − E μ with λ_d = 0 (the other rows' equations unchanged):
+// y = K⁻¹ b, C = Eᵀ K⁻¹ E (a principal block of K⁻¹: positive definite), μ = C⁻¹ y_d, then λ = K⁻¹(b − E μ)
+// (the capacitance form of removing rows, Woodbury). False, having changed nothing, when more than kMaxDroppedRows rows
+// are out or a limit row is in that K does not have: the caller factorizes.
+template <int R>
+bool solveDeltasWithoutDroppedRows(BlockIsland<R>& island, BlockVector<R> JointBlock<R>::*rhs, ProjectionResult& result)
+{
+	int joint[kMaxDroppedRows], row[kMaxDroppedRows];
+	int dropped = 0;
+	for (size_t j = 0; j < island.joints.size(); ++j)
+	{
+		const JointSlot& js = island.joints[j];
+		if (!js.limitSlot || js.limitActive == js.limitActiveInFactor) continue;
+		if (js.limitActive || dropped == kMaxDroppedRows) return false;  // a row K lacks, or too many out
+		joint[dropped] = int(j);
+		row[dropped] = js.bilateralRows;
+		++dropped;
+	}
+	// C on the dropped rows, the identity on the unused ones (fixed size: no allocation)
+	Eigen::Matrix<double, kMaxDroppedRows, kMaxDroppedRows> c =
+		Eigen::Matrix<double, kMaxDroppedRows, kMaxDroppedRows>::Identity();
+	for (int b = 0; b < dropped; ++b)
+	{
+		for (BlockVector<R>& l : island.lambda) l.setZero();
+		island.lambda[size_t(joint[b])][row[b]] = 1;
+		solveInPlace(island, result);
+		for (int a = 0; a < dropped; ++a) c(a, b) = island.lambda[size_t(joint[a])][row[a]];
+	}
+	Eigen::Matrix<double, kMaxDroppedRows, 1> y = Eigen::Matrix<double, kMaxDroppedRows, 1>::Zero();
+	for (size_t j = 0; j < island.joints.size(); ++j) island.lambda[j] = -(island.blocks[j].*rhs);
+	solveInPlace(island, result);
+	for (int a = 0; a < dropped; ++a) y[a] = island.lambda[size_t(joint[a])][row[a]];
+	const Eigen::Matrix<double, kMaxDroppedRows, 1> mu = c.ldlt().solve(y);
+	for (size_t j = 0; j < island.joints.size(); ++j) island.lambda[j] = -(island.blocks[j].*rhs);
+	for (int a = 0; a < dropped; ++a) island.lambda[size_t(joint[a])][row[a]] -= mu[a];
+	solveInPlace(island, result);
+	for (int a = 0; a < dropped; ++a) island.lambda[size_t(joint[a])][row[a]] = 0;  // out exactly, not to rounding
+	accumulateDeltas(island);
+	return true;
+}
+
+// The velocity stage's solve with the current factors: solveDeltas when K has exactly the rows in play, else without
+// the limit rows that are out (solveDeltasWithoutDroppedRows). False when neither applies (the caller factorizes).
+template <int R>
+bool solveVelocityDeltas(BlockIsland<R>& island, bool limitsChanged, ProjectionResult& result)
+{
+	if (limitsChanged) return solveDeltasWithoutDroppedRows(island, &JointBlock<R>::jv, result);
+	solveDeltas(island, &JointBlock<R>::jv, result);
+	return true;
 }
 
 }  // namespace stabilizer
