@@ -32,7 +32,7 @@ const btScalar kLimitSlack = btScalar(0.1);              // rad: how far past a 
 #ifdef BT_USE_DOUBLE_PRECISION
 const std::uint64_t kExpectedHash = 0x985b78ad1884ccfbULL;
 #else
-const std::uint64_t kExpectedHash = 0xb4b876b2c7cee880ULL;
+const std::uint64_t kExpectedHash = 0x05494969e66e491cULL;
 #endif
 
 // 64-bit FNV-1a.
