@@ -261,7 +261,10 @@ DecodedRows decode(btQuaternionHingeConstraint& joint, bool angularOnly, const b
 			const btVector3 residual = rB.cross(r.linB(i)) - r.angB(i);
 			const double q0 = g[0].dot(residual), q1 = g[1].dot(residual);
 			const double k0 = gdet > 0 ? (gg11 * q0 - gg01 * q1) / gdet : 0, k1 = gdet > 0 ? (gg00 * q1 - gg01 * q0) / gdet : 0;
-			pointValue[i] = double(solver.value(i)) + k0 * double(solver.value(3)) + k1 * double(solver.value(4));
+			// (a joint to a static body takes the quaternion rows' Jacobian off its axial row but not their errors: that
+			// row's error is the pivot's own axial offset, fillBilateralRows)
+			const bool freeAxialArm = i == 2 && (joint.getRigidBodyA().getInvMass() == 0) != (joint.getRigidBodyB().getInvMass() == 0);
+			pointValue[i] = double(solver.value(i)) + (freeAxialArm ? 0 : k0 * double(solver.value(3)) + k1 * double(solver.value(4)));
 			for (int kind = 0; kind < 4; ++kind)
 				pointRow[i][kind] = rowOf(kind, i) + btScalar(k0) * rowOf(kind, 3) + btScalar(k1) * rowOf(kind, 4);
 		}

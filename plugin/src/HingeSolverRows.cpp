@@ -356,22 +356,31 @@ int btQuaternionHingeConstraint::fillBilateralRows(btConstraintInfo2* info, cons
 			return (axialA * rootA + axialB * rootB) / (rootA + rootB);
 		};
 		// A joint to a static body (a one-body hinge, a door on the world): stock takes the lever arm off the axial row
-		// altogether ("to make constraint between static and dynamic objects more rigid"), and so does this, exactly:
-		// the arm's part a × r lies across the axis, in the quaternion rows' span where they hold, so the axial row
-		// takes off the multiple of them that cancels its dynamic side's angular part (a door 12.3 m from its pivot,
-		// gravity along the axis: its pivot sagged 0.016 m at 10 iterations, where stock's holds).
+		// altogether ("to make constraint between static and dynamic objects more rigid"), and so does this: the arm's
+		// part a × r lies across the axis, in the quaternion rows' span, so the axial row takes off the multiple of
+		// their Jacobian that cancels its dynamic side's angular part (a door 12.3 m from its pivot, gravity along the
+		// axis: its pivot sagged 0.016 m at 10 iterations, where stock's holds). Its error stays the pivot's own axial
+		// offset, as stock's: taking off the quaternion rows' errors as well made the row's target "the centre where an
+		// aligned joint would have it", so whatever swing Gauss–Seidel leaves at the joint became a standing pivot offset
+		// of lever × swing. A thin light link between an anchor and a heavy body leaves one at every iteration count
+		// (the heavy body's swing reaches the anchor only through the link's small inertia; no row basis of one joint
+		// removes that): double_pendulum's anchor stood 0.052 m off (0.5 m × sin 6.3°), 2.5× stock's largest separation
+		// at 250 iterations, now 1.06×; Gazebo's inertia-ratio pendulum's RMS separation 2.4 → 1.3× stock's at 50
+		// (docs/ROW_BASIS.md). Both errors still go to zero together: the pivot's rate is −erp·fps times its offset plus
+		// the lever times the swing rate the quaternion rows ask for, a transient that dies with the swing.
 		const bool freeAxialArm = axisRow && staticA != staticB && quaternionRowsIndependent;
 		// The row operation both take: the point row minus c_u, c_v times the quaternion rows (A side −u', −v', B side
-		// +u', +v', errors errorU, errorV), (c_u, c_v) = scale × the coefficients of w's projection on (u', v'); w by
-		// value: it may be one of the arms the operation changes.
+		// +u', +v', and errors errorU, errorV where `error` is given: the axial shift's, not the free axial arm's), (c_u,
+		// c_v) = scale × the coefficients of w's projection on (u', v'); w by value: it may be one of the arms the
+		// operation changes.
 		auto takeOffQuaternionRows = [&](const Lanes w, btScalar scale, Lanes& angularA, Lanes& angularB,
-										 btScalar& error) {
+										 btScalar* error) {
 			const btScalar wu = dotXyz(turnedU, w), wv = dotXyz(turnedV, w);
 			const btScalar cu = scale * (vv * wu - uv * wv) / det, cv = scale * (uu * wv - uv * wu) / det;
 			const Lanes g = turnedU * cu + turnedV * cv;
 			angularA += g;
 			angularB -= g;
-			error -= cu * errorU + cv * errorV;
+			if (error) *error -= cu * errorU + cv * errorV;
 		};
 		const Lanes directions[3] = {basis.p, basis.t, basis.a};
 		for (int i = 0; i < 3; ++i, ++row)
@@ -385,11 +394,15 @@ int btQuaternionHingeConstraint::fillBilateralRows(btConstraintInfo2* info, cons
 			{
 				const Lanes w = crossLanes(hingeAxis, e);
 				const btScalar delta = axialShift(w);
-				if (btFabs(delta) > roundOff) takeOffQuaternionRows(w, delta, angularA, angularB, error);
+				if (btFabs(delta) > roundOff) takeOffQuaternionRows(w, delta, angularA, angularB, &error);
 			}
-			// the axial row's whole lever on the dynamic side, J1 (A) or J2 (B): A's + g = 0, or B's − g = 0
+			// the axial row's whole lever on the dynamic side, J1 (A) or J2 (B): A's + g = 0, or B's − g = 0 (the
+			// Jacobian only: the error stays the pivot's, above)
 			if (freeAxialArm && i == 2)
-				takeOffQuaternionRows(staticB ? -angularA : angularB, btScalar(1), angularA, angularB, error);
+				takeOffQuaternionRows(staticB ? -angularA : angularB, btScalar(1), angularA, angularB, nullptr);
+			// at a stop that binds (fillRows), the tangential row's lever too: its part about the hinge is taken off
+			// with the stop row (exact while the stop holds), the rest with the quaternion rows' Jacobian (the error
+			// stays the pivot's own, as the axial row's)
 			if (atStop && axisRow && i == 1 && staticA != staticB && quaternionRowsIndependent)
 			{
 				const Lanes alpha =
@@ -399,7 +412,7 @@ int btQuaternionHingeConstraint::fillBilateralRows(btConstraintInfo2* info, cons
 				{
 					Lanes& lever = staticB ? angularA : angularB;
 					lever -= alpha * (dotXyz(lever, alpha) / alpha2);
-					takeOffQuaternionRows(staticB ? -angularA : angularB, btScalar(1), angularA, angularB, error);
+					takeOffQuaternionRows(staticB ? -angularA : angularB, btScalar(1), angularA, angularB, nullptr);
 				}
 			}
 			storeXyz(info->m_J1linearAxis + at, -e);
