@@ -33,7 +33,9 @@
 // (HingeAngle.h). Position stage: once α is found past a stop in this step, the row is the equation α = stop for the
 // rest of the step (an active set that only grows within a step: fewer refactorizations, no flip-flopping).
 // Velocity stage: α̇ = 0 only if the stop was violated this step and α̇ still points past it (decided once, before
-// the first solve).
+// the first solve); a limit row K has and the velocities leave out is taken out by solves with K's factors
+// (IslandSystem.h, solveDeltasWithoutDroppedRows), not by a new factorization. A Newton step that takes a joint past
+// a stop K does not have is kept whatever the residual says (it counts the new row).
 // s = trace(K)/(active rows); ε s on the diagonal keeps K positive definite with redundant rows (closed loops); a
 // padding or inactive limit row gets s on its diagonal and a zero right-hand side, so its λ is 0.
 // Units: C in m (linear rows) and rad (angular, limit); λ in kg·m (linear) and kg·m²·rad (angular).
