@@ -9,6 +9,7 @@
 #include "SceneSpec.h"
 #include "SolverRowBasis.h"
 #include "support/Refusal.h"
+#include "support/SceneRuns.h"
 #include "support/World.h"
 
 #include "quathinge/btQuaternionHingeConstraint.h"
@@ -19,18 +20,6 @@
 #include <cstdio>
 
 using namespace quathinge::scenes;
-
-namespace
-{
-Metrics run(const SceneSpec& scene, Kind kind, int iterations)
-{
-	RunSettings settings;
-	settings.dt = scene.dt;
-	settings.iterations = iterations;
-	settings.reference = false;
-	return runScene(scene, kind, settings);
-}
-}  // namespace
 
 TEST(InertiaRatio, TheSceneIsGazebosWorld)
 {
@@ -95,8 +84,8 @@ TEST(InertiaRatio, BareQuaternionHingeHoldsGazebosBoundAndStaysAtOrBelowStock)
 	const SceneSpec scene = makeScene("inertia_ratio");
 	for (int iterations : {50, 100, 250})
 	{
-		const Metrics stock = run(scene, Kind::Stock, iterations);
-		const Metrics quaternion = run(scene, Kind::Quaternion, iterations);
+		const Metrics stock = qh_test::runAtOwnStep(scene, Kind::Stock, iterations);
+		const Metrics quaternion = qh_test::runAtOwnStep(scene, Kind::Quaternion, iterations);
 		std::printf("[ figures  ] inertia_ratio %d iterations: out of plane %.4f rad (stock %.4f), max separation %.2e m "
 					"(stock %.2e), max misalignment %.3g deg (stock %.3g)\n",
 					iterations, quaternion.maxOutOfPlaneRad, stock.maxOutOfPlaneRad, quaternion.maxSeparation,
@@ -119,8 +108,8 @@ TEST(InertiaRatio, TheFamilyStaysAtOrBelowStockAtTheWorldsIterations)
 	for (const char* name : {"inertia_ratio_10", "inertia_ratio_100", "inertia_ratio_1000"})
 	{
 		const SceneSpec scene = makeScene(name);
-		const Metrics stock = run(scene, Kind::Stock, 250);
-		const Metrics quaternion = run(scene, Kind::Quaternion, 250);
+		const Metrics stock = qh_test::runAtOwnStep(scene, Kind::Stock, 250);
+		const Metrics quaternion = qh_test::runAtOwnStep(scene, Kind::Quaternion, 250);
 		std::printf("[ figures  ] %s 250 iterations: out of plane %.4f rad (stock %.4f)\n", name,
 					quaternion.maxOutOfPlaneRad, stock.maxOutOfPlaneRad);
 		ASSERT_FALSE(quaternion.blewUp) << name;

@@ -120,6 +120,10 @@ struct SceneSpec
 /// The tree test for reduced-coordinate kinds: every body has at most one parent joint and there is no loop.
 bool isTree(const SceneSpec& scene);
 
+/// The step a scene runs at by its own measure: SceneSpec::dt where its source fixes one, else 60 Hz (the
+/// project's reference step, RunSettings' default).
+inline double sceneStep(const SceneSpec& scene) { return scene.dt > 0 ? scene.dt : 1.0 / 60; }
+
 /// Every scene name, in a stable order.
 std::vector<std::string> sceneNames();
 /// Where the models (URDF, .bullet) are: $QUATHINGE_MODELS_DIR when set; else `share/quathinge/models` beside the

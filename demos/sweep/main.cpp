@@ -380,7 +380,7 @@ int main(int argc, char** argv)
 		{
 			const SceneSpec scene = makeScene(name, 1, models);
 			if (!scene.unavailable.empty()) continue;
-			const double step = dt > 0 ? dt : scene.dt > 0 ? scene.dt : 1.0 / 60;
+			const double step = dt > 0 ? dt : sceneStep(scene);
 			// the states: a run of the stabilized quaternion hinge (on the joints' manifold to 1e-4 m) at 250
 			// iterations, sampled at 0, 1/3 and 2/3 of the scene's duration
 			std::unique_ptr<Simulation> stockRun;
@@ -450,7 +450,7 @@ int main(int argc, char** argv)
 			const Job& job = queue[i];
 			const SceneSpec scene = makeScene(job.sceneName, 1, models);
 			RunSettings settings;
-			settings.dt = dt > 0 ? dt : scene.dt > 0 ? scene.dt : 1.0 / 60;
+			settings.dt = dt > 0 ? dt : sceneStep(scene);
 			settings.iterations = job.iterations;
 			settings.duration = duration;
 			settings.reference = false;

@@ -85,7 +85,7 @@ int expectNoAllocationPerStep(const std::string& name, int steps)
 	if (!scene.unavailable.empty()) return 0;
 	Simulation sim(scene, Kind::Quaternion);
 	btQuaternionHingeStabilizer stabilizer;
-	const double dt = scene.dt > 0 ? scene.dt : 1.0 / 60;
+	const double dt = sceneStep(scene);
 	long afterBuild = 0;
 	int rebuilds = 0, projected = 0, factorizations = 0, limitRows = 0;
 	for (int i = 0; i < steps; ++i)
