@@ -134,12 +134,6 @@ struct IslandStep
 		loadInverseMasses(island);
 		factorAge = SIMD_INFINITY;
 	}
-	bool anyLimitTouched() const
-	{
-		for (const JointSlot& js : island.joints)
-			if (js.limitTouched != 0) return true;
-		return false;
-	}
 	// Q14 with the factorization just made (exact): J v = 0 at the current positions. Limit rows of K that the
 	// velocities leave out (a stop no longer pushed into) are taken out by solves (solveVelocityDeltas); when that
 	// cannot be done, nothing is projected here and the velocity stage does it.

@@ -126,6 +126,13 @@ bool refactorize(BlockIsland<R>& island, double regularization, ProjectionResult
 	return true;
 }
 
+// λ := −r, r = C (the position stage) or J v (the velocity stage): the right-hand side of K λ = −r.
+template <int R>
+void loadRightHandSide(BlockIsland<R>& island, BlockVector<R> JointBlock<R>::*rhs)
+{
+	for (size_t j = 0; j < island.joints.size(); ++j) island.lambda[j] = -(island.blocks[j].*rhs);
+}
+
 // λ := K⁻¹ λ in place with the current factors.
 template <int R>
 void solveInPlace(BlockIsland<R>& island, ProjectionResult& result)
@@ -160,7 +167,7 @@ void accumulateDeltas(BlockIsland<R>& island)
 template <int R>
 void solveDeltas(BlockIsland<R>& island, BlockVector<R> JointBlock<R>::*rhs, ProjectionResult& result)
 {
-	for (size_t j = 0; j < island.joints.size(); ++j) island.lambda[j] = -(island.blocks[j].*rhs);
+	loadRightHandSide(island, rhs);
 	solveInPlace(island, result);
 	accumulateDeltas(island);
 }
@@ -200,11 +207,11 @@ bool solveDeltasWithoutDroppedRows(BlockIsland<R>& island, BlockVector<R> JointB
 		for (int a = 0; a < dropped; ++a) c(a, b) = island.lambda[size_t(joint[a])][row[a]];
 	}
 	Eigen::Matrix<double, kMaxDroppedRows, 1> y = Eigen::Matrix<double, kMaxDroppedRows, 1>::Zero();
-	for (size_t j = 0; j < island.joints.size(); ++j) island.lambda[j] = -(island.blocks[j].*rhs);
+	loadRightHandSide(island, rhs);
 	solveInPlace(island, result);
 	for (int a = 0; a < dropped; ++a) y[a] = island.lambda[size_t(joint[a])][row[a]];
 	const Eigen::Matrix<double, kMaxDroppedRows, 1> mu = c.ldlt().solve(y);
-	for (size_t j = 0; j < island.joints.size(); ++j) island.lambda[j] = -(island.blocks[j].*rhs);
+	loadRightHandSide(island, rhs);
 	for (int a = 0; a < dropped; ++a) island.lambda[size_t(joint[a])][row[a]] -= mu[a];
 	solveInPlace(island, result);
 	for (int a = 0; a < dropped; ++a) island.lambda[size_t(joint[a])][row[a]] = 0;  // out exactly, not to rounding
