@@ -194,7 +194,7 @@ void btQuaternionHingeConstraint::getInfo2NonVirtual(btConstraintInfo2* info, co
 }
 
 int btQuaternionHingeConstraint::fillBilateralRows(btConstraintInfo2* info, const btTransform& transA,
-												  const btTransform& transB, const Pose& pose, bool atStop) const
+												  const btTransform& transB, const Pose& pose, const btVector3* stopAxis) const
 {
 	// pose: joint frame A's basis and both pivots in world; q = a* ⊗ b (Q2).
 	const int skip = info->rowskip;
@@ -400,13 +400,12 @@ int btQuaternionHingeConstraint::fillBilateralRows(btConstraintInfo2* info, cons
 			// Jacobian only: the error stays the pivot's, above)
 			if (freeAxialArm && i == 2)
 				takeOffQuaternionRows(staticB ? -angularA : angularB, btScalar(1), angularA, angularB, nullptr);
-			// at a stop that binds (fillRows), the tangential row's lever too: its part about the hinge is taken off
-			// with the stop row (exact while the stop holds), the rest with the quaternion rows' Jacobian (the error
-			// stays the pivot's own, as the axial row's)
-			if (atStop && axisRow && i == 1 && staticA != staticB && quaternionRowsIndependent)
+			// at a stop that binds on a joint to a static body (fillRows gives the stop row's direction α), the tangential
+			// row's lever too: its part about the hinge is taken off with the stop row (exact while the stop holds), the
+			// rest with the quaternion rows' Jacobian (the error stays the pivot's own, as the axial row's)
+			if (stopAxis && axisRow && i == 1 && quaternionRowsIndependent)
 			{
-				const Lanes alpha =
-					pose.axialKnown ? lanesOf(pose.axial) : timesTransposed(pose.axesA, axialRowDirection(pose.q));
+				const Lanes alpha = lanesOf(*stopAxis);
 				const btScalar alpha2 = dotXyz(alpha, alpha);
 				if (alpha2 > SIMD_EPSILON)
 				{
@@ -560,27 +559,31 @@ void btQuaternionHingeConstraint::fillRows(btConstraintInfo2* info, const btTran
 	const bool drive = driveActive(m_settings) && row < budget;
 	const bool friction = m_settings.maxFrictionTorque > 0 && row + (drive ? 1 : 0) < budget;
 	const bool limitRowFits = row + (drive ? 1 : 0) + (friction ? 1 : 0) < budget;
+	const bool axisRows = (m_limitSign != 0 && limitRowFits) || drive || friction;
+	// The angle's direction of change R_A t (HingeAngle.h: the exact gradient of the angle within 90° of assembly),
+	// once, for the axis rows below and a binding stop; not computed for a joint with neither.
+	const Lanes alpha = axisRows
+							? (pose.axialKnown ? lanesOf(pose.axial) : timesTransposed(pose.axesA, axialRowDirection(pose.q)))
+							: Lanes{};
 	// A stop that binds this step — the joint at or past it, or reaching it within the step (its distance within
 	// |α̇| h) — on a joint to a static body: the tangential row then drops its lever about the hinge, as stock's does
 	// at a stop (fillBilateralRows). Not for a stop still ahead: the row operation is exact only while the stop holds.
+	btVector3 stopAxis;
 	bool atStop = false;
 	if (m_limitSign != 0 && limitRowFits && !m_limitLocked &&
 		(m_rbA.getInvMass() < SIMD_EPSILON) != (m_rbB.getInvMass() < SIMD_EPSILON))
 	{
-		const Lanes alpha =
-			pose.axialKnown ? lanesOf(pose.axial) : timesTransposed(pose.axesA, axialRowDirection(pose.q));
 		const btScalar reach = btFabs(dotXyz(alpha, lanesOf(angVelB) - lanesOf(angVelA))) / info->fps;
 		atStop = m_limitDistance <= reach;
+		if (atStop) storeLanes(stopAxis, alpha);
 	}
-	row = fillBilateralRows(info, transA, transB, pose, atStop);
+	row = fillBilateralRows(info, transA, transB, pose, atStop ? &stopAxis : nullptr);
 	const int skip = info->rowskip;
-	if ((m_limitSign == 0 || !limitRowFits) && !drive && !friction) return;
+	if (!axisRows) return;
 
-	// Axis part: rows along J_α = σ R_A t (HingeAngle.h: the exact gradient of the angle within 90° of assembly).
-	// (In SIMD lanes, MatrixLanes.h: btVector3's products, the same bits.)
+	// Axis part: rows along J_α = σ R_A t. (In SIMD lanes, MatrixLanes.h: btVector3's products, the same bits.)
 	const btScalar sigma = userSign(m_settings.useReferenceFrameA);
-	const Lanes axis =
-		(pose.axialKnown ? lanesOf(pose.axial) : timesTransposed(pose.axesA, axialRowDirection(pose.q))) * sigma;
+	const Lanes axis = alpha * sigma;
 	const btScalar rate = dotXyz(axis, lanesOf(angVelB) - lanesOf(angVelA));
 	const btScalar normalErp = rowErp(kAxialKind, info->erp);
 	auto emit = [&](const AxialRow& axial, bool setCfm, btScalar cfm) {

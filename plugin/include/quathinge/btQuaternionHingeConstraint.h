@@ -345,7 +345,7 @@ private:
 	bool needsAngle() const;
 	void computeRowCount(btConstraintInfo1 * info, const btTransform& transA, const btTransform& transB);
 	int fillBilateralRows(btConstraintInfo2 * info, const btTransform& transA, const btTransform& transB,
-						  const Pose& pose, bool atStop) const;
+						  const Pose& pose, const btVector3* stopAxis) const;
 	void decoupleRows(btConstraintInfo2 * info, int rows) const;
 	void fillRows(btConstraintInfo2 * info, const btTransform& transA, const btTransform& transB,
 				  const btVector3& angVelA, const btVector3& angVelB);
