@@ -204,9 +204,14 @@ btScalar btQuaternionHingeConstraint::getHingeAngle(const btTransform& transA, c
 btScalar btQuaternionHingeConstraint::computeAngleRow(const btTransform& transA, const btTransform& transB,
 													  btScalar previousAngle, btVector3& gradient) const
 {
-	// (Q11) α = σθ continued from the previous angle; α̇ = σ Ω·t with Ω = R_Aᵀ(ω_B − ω_A), so the world axis is σ R_A t
 	Pose pose;
 	poseAt(transA, transB, pose);
+	return angleRowAt(pose, previousAngle, gradient);
+}
+
+btScalar btQuaternionHingeConstraint::angleRowAt(const Pose& pose, btScalar previousAngle, btVector3& gradient) const
+{
+	// (Q11) α = σθ continued from the previous angle; α̇ = σ Ω·t with Ω = R_Aᵀ(ω_B − ω_A), so the world axis is σ R_A t
 	const btScalar sigma = userSign(m_settings.useReferenceFrameA);
 	storeLanes(gradient, timesTransposed(pose.axesA, hingeAngleGradient(pose.q)));
 	gradient *= sigma;

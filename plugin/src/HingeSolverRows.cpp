@@ -494,10 +494,26 @@ void btQuaternionHingeConstraint::decoupleRows(btConstraintInfo2* info, int rows
 int btQuaternionHingeConstraint::computePositionRows(const btTransform& transA, const btTransform& transB, btScalar* C,
 													 btScalar* jacobian) const
 {
-	// The same equations as the solver's rows, unrotated: point rows along world x, y, z (row i: J1 = (−e_i, e_i × r_A),
-	// J2 = (e_i, r_B × e_i)), then the two quaternion rows (Q7, Q9; Q12 past 90°): J1 = (0, −g), J2 = (0, g).
 	Pose pose;
 	poseAt(transA, transB, pose);
+	return positionRowsAt(pose, transA, transB, C, jacobian);
+}
+
+int btQuaternionHingeConstraint::computePositionRows(const btTransform& transA, const btTransform& transB, btScalar* C,
+													 btScalar* jacobian, btScalar previousAngle, btScalar& angle,
+													 btVector3& angleGradient) const
+{
+	Pose pose;
+	poseAt(transA, transB, pose);
+	angle = angleRowAt(pose, previousAngle, angleGradient);
+	return positionRowsAt(pose, transA, transB, C, jacobian);
+}
+
+int btQuaternionHingeConstraint::positionRowsAt(const Pose& pose, const btTransform& transA, const btTransform& transB,
+												btScalar* C, btScalar* jacobian) const
+{
+	// The same equations as the solver's rows, unrotated: point rows along world x, y, z (row i: J1 = (−e_i, e_i × r_A),
+	// J2 = (e_i, r_B × e_i)), then the two quaternion rows (Q7, Q9; Q12 past 90°): J1 = (0, −g), J2 = (0, g).
 	int rows = 0;
 	if (!m_settings.angularOnly)
 	{

@@ -53,7 +53,10 @@ PositionResidual evaluatePositions(BlockIsland<R>& island, btScalar tolerance)
 		JointBlock<R>& jb = island.blocks[j];
 		const btTransform& tA = js.rigid[0]->getCenterOfMassTransform();
 		const btTransform& tB = js.rigid[1]->getCenterOfMassTransform();
-		const int rows = js.joint->computePositionRows(tA, tB, c, jac);
+		// A joint with a limit slot also needs its angle row: both from one evaluation of the joint frames.
+		btVector3 g;
+		const int rows = js.limitSlot ? js.joint->computePositionRows(tA, tB, c, jac, js.angleReference, js.angle, g)
+									  : js.joint->computePositionRows(tA, tB, c, jac);
 		const int linearRows = rows - 2;
 		btAssert(hasPointStructure(jac, rows, linearRows));
 		btScalar linear = 0, angular = 0;
@@ -80,10 +83,8 @@ PositionResidual evaluatePositions(BlockIsland<R>& island, btScalar tolerance)
 		if (!js.limitSlot) continue;
 		btAssert(R == 6);  // an island with a limit slot works in 6-row blocks
 
-		// The limit row: the multi-turn angle α continued from the step's reference, and its gradient (the joint's own
-		// Q11, btQuaternionHingeConstraint::computeAngleRow).
-		btVector3 g;
-		js.angle = js.joint->computeAngleRow(tA, tB, js.angleReference, g);
+		// The limit row: the multi-turn angle α continued from the step's reference, and its gradient g (the joint's own
+		// Q11, btQuaternionHingeConstraint::computeAngleRow; computed above with the position rows).
 		for (int k = 0; k < 3; ++k)
 		{
 			js.limitGradient[k] = 0;

@@ -318,6 +318,10 @@ public:
 	/// half a turn away), and sets gradient to its exact derivative as a world-frame axis: α̇ = gradient·(ω_B − ω_A).
 	btScalar computeAngleRow(const btTransform& transA, const btTransform& transB, btScalar previousAngle,
 							 btVector3& gradient) const;
+	/// computePositionRows and computeAngleRow at once, from one evaluation of the joint frames (a stabilizer that
+	/// needs both on a joint with a limit): the same values, bit for bit, at about half the cost of the two calls.
+	int computePositionRows(const btTransform& transA, const btTransform& transB, btScalar* C, btScalar* jacobian,
+							btScalar previousAngle, btScalar& angle, btVector3& angleGradient) const;
 
 	/// Draws the joint: pivot frames, the hinge axis and, with a limit, its arc (within one turn).
 	void debugDraw(btIDebugDraw * drawer, btScalar size = btScalar(0.3)) const;
@@ -336,6 +340,10 @@ private:
 		bool axialKnown;
 	};
 	void poseAt(const btTransform& transA, const btTransform& transB, Pose& pose) const;
+	/// computePositionRows and computeAngleRow at a pose already evaluated.
+	int positionRowsAt(const Pose& pose, const btTransform& transA, const btTransform& transB, btScalar* C,
+					   btScalar* jacobian) const;
+	btScalar angleRowAt(const Pose& pose, btScalar previousAngle, btVector3& gradient) const;
 	void initFrames(const btTransform& frameA, const btTransform& frameB, bool useReferenceFrameA);  // + initFromSettings
 	void initFromSettings();
 	void refuseConstruction();
