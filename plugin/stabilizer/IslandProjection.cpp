@@ -103,8 +103,7 @@ struct IslandStep
 		for (JointSlot& js : island.joints)
 		{
 			js.limitTouched = 0;
-			js.limitActive = js.limitActiveInFactor = false;
-			if (js.limitSlot) js.angleReference = js.joint->getMultiTurnAngle();
+			js.limitActive = js.limitActiveInFactor = false;  // js.angleReference: read by replayIfAtRest
 		}
 	}
 

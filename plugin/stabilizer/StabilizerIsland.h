@@ -94,7 +94,7 @@ struct JointSlot
 	int rows;               // bilateralRows + limitSlot
 
 	// Per step.
-	btScalar angleReference;   // multi-turn angle at the step's start (getHingeAngle's sign)
+	btScalar angleReference;   // multi-turn angle at the step's start (getHingeAngle's sign; set by replayIfAtRest)
 	btScalar angle;            // multi-turn angle at the last evaluation
 	bool limitActive;          // the limit row is in the system (else a padding row)
 	bool limitActiveInFactor;  // … as it was when K was last factorized
@@ -209,7 +209,7 @@ struct ProjectionSettings
 	double rotationWeight;  // the position metric's inertia factor (btQuaternionHingeStabilizerSettings)
 };
 
-/// Q13 then Q14 on one island.
+/// Q13 then Q14 on one island (after replayIfAtRest, which reads the limited joints' angles for it).
 ProjectionResult projectIsland(Island& island, const ProjectionSettings& settings);
 
 /// conserveEnergy: scales the island's velocities back toward its reference energy (EnergyProjection.cpp); returns
