@@ -80,11 +80,27 @@ void symmetricEigenvectors(double (&k)[5][5], double (&v)[5][5], int n)
 	}
 }
 
-// The body's inverse inertia about w (world), as the solver sees it (its angular factor applied, as the spring's
-// effective mass in fillRows): wᵀ I⁻¹ w.
-btScalar inverseInertiaAbout(const btRigidBody& body, const btVector3& w)
+// A body's inverse inertia as the solver sees it (its angular factor applied, as the spring's effective mass in
+// fillRows), held in SIMD lanes for inverseInertiaAbout: the world tensor I⁻¹ by columns, gathered once for the
+// directions a step asks about.
+struct InverseInertiaLanes
 {
-	return w.dot(body.getInvInertiaTensorWorld() * w * body.getAngularFactor());
+	Lanes column0, column1, column2;
+	Lanes angularFactor;
+};
+
+InverseInertiaLanes inverseInertiaLanes(const btRigidBody& body)
+{
+	const btMatrix3x3& tensor = body.getInvInertiaTensorWorld();
+	return {columnLanes(tensor, 0), columnLanes(tensor, 1), columnLanes(tensor, 2), lanesOf(body.getAngularFactor())};
+}
+
+// The body's inverse inertia about w (world): wᵀ I⁻¹ w, with the bits of w.dot(I⁻¹ * w * angularFactor) (lane i of
+// the column sum is row i of I⁻¹ dotted with w, its three products added in btVector3::dot's order, MatrixLanes.h).
+btScalar inverseInertiaAbout(const InverseInertiaLanes& inertia, const Lanes& w)
+{
+	const Lanes turned = inertia.column0 * w[0] + inertia.column1 * w[1] + inertia.column2 * w[2];
+	return dotXyz(w, turned * inertia.angularFactor);
 }
 
 bool isStaticLike(const btRigidBody& body)
@@ -331,11 +347,16 @@ int btQuaternionHingeConstraint::fillBilateralRows(btConstraintInfo2* info, cons
 							 alphaB * alphaB * largestInverseInertia(m_rbB) <= shareBound;
 		}
 		const bool shift = axialOffsets && (!massBlendHolds || btFabs(massBlend) > roundOff);
+		// the bodies' tensors for the exact test, gathered once for both rows that ask
+		InverseInertiaLanes inertiaLanesA{}, inertiaLanesB{};
+		if (!massBlendHolds)
+		{
+			inertiaLanesA = inverseInertiaLanes(m_rbA);
+			inertiaLanesB = inverseInertiaLanes(m_rbB);
+		}
 		auto axialShift = [&](const Lanes& w) {
 			if (massBlendHolds) return massBlend;
-			btVector3 about;
-			storeLanes(about, w);
-			const btScalar inertiaA = inverseInertiaAbout(m_rbA, about), inertiaB = inverseInertiaAbout(m_rbB, about);
+			const btScalar inertiaA = inverseInertiaAbout(inertiaLanesA, w), inertiaB = inverseInertiaAbout(inertiaLanesB, w);
 			// body X's share stays within invMassSum while |axial_X − δ| ≤ reach_X
 			btScalar low = -BT_LARGE_FLOAT, high = BT_LARGE_FLOAT;
 			if (inertiaA > btScalar(0))
