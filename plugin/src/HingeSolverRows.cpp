@@ -403,10 +403,8 @@ int btQuaternionHingeConstraint::fillBilateralRows(btConstraintInfo2* info, cons
 			angularB -= g;
 			if (error) *error -= cu * errorU + cv * errorV;
 		};
-		const Lanes directions[3] = {basis.p, basis.t, basis.a};
-		for (int i = 0; i < 3; ++i, ++row)
-		{
-			const Lanes& e = directions[i];
+		// Point row i along e; written out for each of the three (always inlined: the tests on i fold away).
+		auto pointRow = [&](int i, const Lanes& e) __attribute__((always_inline)) {
 			const int at = row * skip;
 			Lanes angularA = crossLanes(e, rA), angularB = crossLanes(rB, e);
 			btScalar error = -errorScale(kLinearKind + i) * dotXyz(e, c);
@@ -441,7 +439,11 @@ int btQuaternionHingeConstraint::fillBilateralRows(btConstraintInfo2* info, cons
 			storeXyz(info->m_J2angularAxis + at, angularB);
 			info->m_constraintError[at] = error;
 			rowCfmOverride(kLinearKind + i, at);
-		}
+			++row;
+		};
+		pointRow(0, basis.p);
+		pointRow(1, basis.t);
+		pointRow(2, basis.a);
 	}
 
 	if (m_angularRowsFirst) row = 0;
