@@ -15,6 +15,8 @@
 #include "BulletDynamics/Dynamics/btRigidBody.h"
 
 #include <cmath>
+#include <cstring>
+#include <type_traits>
 
 using namespace quathinge;
 
@@ -103,9 +105,20 @@ btScalar inverseInertiaAbout(const InverseInertiaLanes& inertia, const Lanes& w)
 	return dotXyz(w, turned * inertia.angularFactor);
 }
 
+// The bits of x without its sign: zero exactly when x == 0 (+0 or −0; never for NaN).
+std::make_unsigned<LaneInt>::type magnitudeBits(btScalar x)
+{
+	std::make_unsigned<LaneInt>::type bits;
+	std::memcpy(&bits, &x, sizeof bits);
+	return bits << 1;
+}
+
+// No inverse mass and no inverse inertia (invMass == 0 && invInertiaDiagLocal.isZero(), one integer test instead of
+// four floating-point comparisons, which the compiler evaluates branch-free with their NaN cases).
 bool isStaticLike(const btRigidBody& body)
 {
-	return body.getInvMass() == 0 && body.getInvInertiaDiagLocal().isZero();
+	const btVector3& d = body.getInvInertiaDiagLocal();
+	return (magnitudeBits(body.getInvMass()) | magnitudeBits(d.x()) | magnitudeBits(d.y()) | magnitudeBits(d.z())) == 0;
 }
 }  // namespace
 
