@@ -132,6 +132,13 @@ void btQuaternionHingeConstraint::clearFault()
 	setEnabled(m_fault == BT_QHINGE_FAULT_NONE);
 }
 
+// Defined here, beside its only callers (getInfo1 and getInfo2), so that it is inlined into them.
+bool btQuaternionHingeConstraint::needsAngle() const
+{
+	return m_settings.hasLimit || m_trackAlways || m_settings.driveMode == BT_QHINGE_DRIVE_SERVO ||
+		   m_settings.driveMode == BT_QHINGE_DRIVE_SPRING;
+}
+
 void btQuaternionHingeConstraint::getInfo1(btConstraintInfo1* info)
 {
 	computeRowCount(info, m_rbA.getCenterOfMassTransform(), m_rbB.getCenterOfMassTransform());
