@@ -218,12 +218,6 @@ btScalar btQuaternionHingeConstraint::angleRowAt(const Pose& pose, btScalar prev
 	return continueAngle(previousAngle, sigma * hingeAngle(pose.q));
 }
 
-bool btQuaternionHingeConstraint::needsAngle() const
-{
-	return m_settings.hasLimit || m_trackAlways || m_settings.driveMode == BT_QHINGE_DRIVE_SERVO ||
-		   m_settings.driveMode == BT_QHINGE_DRIVE_SPRING;
-}
-
 void btQuaternionHingeConstraint::updateMultiTurnAngle(btScalar rawUserAngle)
 {
 	if (m_multiTurnValid)

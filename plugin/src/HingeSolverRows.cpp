@@ -15,6 +15,8 @@
 #include "BulletDynamics/Dynamics/btRigidBody.h"
 
 #include <cmath>
+#include <cstring>
+#include <type_traits>
 
 using namespace quathinge;
 
@@ -80,16 +82,43 @@ void symmetricEigenvectors(double (&k)[5][5], double (&v)[5][5], int n)
 	}
 }
 
-// The body's inverse inertia about w (world), as the solver sees it (its angular factor applied, as the spring's
-// effective mass in fillRows): wᵀ I⁻¹ w.
-btScalar inverseInertiaAbout(const btRigidBody& body, const btVector3& w)
+// A body's inverse inertia as the solver sees it (its angular factor applied, as the spring's effective mass in
+// fillRows), held in SIMD lanes for inverseInertiaAbout: the world tensor I⁻¹ by columns, gathered once for the
+// directions a step asks about.
+struct InverseInertiaLanes
 {
-	return w.dot(body.getInvInertiaTensorWorld() * w * body.getAngularFactor());
+	Lanes column0, column1, column2;
+	Lanes angularFactor;
+};
+
+InverseInertiaLanes inverseInertiaLanes(const btRigidBody& body)
+{
+	const btMatrix3x3& tensor = body.getInvInertiaTensorWorld();
+	return {columnLanes(tensor, 0), columnLanes(tensor, 1), columnLanes(tensor, 2), lanesOf(body.getAngularFactor())};
 }
 
+// The body's inverse inertia about w (world): wᵀ I⁻¹ w, with the bits of w.dot(I⁻¹ * w * angularFactor) (lane i of
+// the column sum is row i of I⁻¹ dotted with w, its three products added in btVector3::dot's order, MatrixLanes.h).
+btScalar inverseInertiaAbout(const InverseInertiaLanes& inertia, const Lanes& w)
+{
+	const Lanes turned = inertia.column0 * w[0] + inertia.column1 * w[1] + inertia.column2 * w[2];
+	return dotXyz(w, turned * inertia.angularFactor);
+}
+
+// The bits of x without its sign: zero exactly when x == 0 (+0 or −0; never for NaN).
+std::make_unsigned<LaneInt>::type magnitudeBits(btScalar x)
+{
+	std::make_unsigned<LaneInt>::type bits;
+	std::memcpy(&bits, &x, sizeof bits);
+	return bits << 1;
+}
+
+// No inverse mass and no inverse inertia (invMass == 0 && invInertiaDiagLocal.isZero(), one integer test instead of
+// four floating-point comparisons, which the compiler evaluates branch-free with their NaN cases).
 bool isStaticLike(const btRigidBody& body)
 {
-	return body.getInvMass() == 0 && body.getInvInertiaDiagLocal().isZero();
+	const btVector3& d = body.getInvInertiaDiagLocal();
+	return (magnitudeBits(body.getInvMass()) | magnitudeBits(d.x()) | magnitudeBits(d.y()) | magnitudeBits(d.z())) == 0;
 }
 }  // namespace
 
@@ -101,6 +130,13 @@ void btQuaternionHingeConstraint::clearFault()
 	m_fault = BT_QHINGE_FAULT_NONE;
 	validateFramesIfEdited();
 	setEnabled(m_fault == BT_QHINGE_FAULT_NONE);
+}
+
+// Defined here, beside its only callers (getInfo1 and getInfo2), so that it is inlined into them.
+bool btQuaternionHingeConstraint::needsAngle() const
+{
+	return m_settings.hasLimit || m_trackAlways || m_settings.driveMode == BT_QHINGE_DRIVE_SERVO ||
+		   m_settings.driveMode == BT_QHINGE_DRIVE_SPRING;
 }
 
 void btQuaternionHingeConstraint::getInfo1(btConstraintInfo1* info)
@@ -331,11 +367,16 @@ int btQuaternionHingeConstraint::fillBilateralRows(btConstraintInfo2* info, cons
 							 alphaB * alphaB * largestInverseInertia(m_rbB) <= shareBound;
 		}
 		const bool shift = axialOffsets && (!massBlendHolds || btFabs(massBlend) > roundOff);
+		// the bodies' tensors for the exact test, gathered once for both rows that ask
+		InverseInertiaLanes inertiaLanesA{}, inertiaLanesB{};
+		if (!massBlendHolds)
+		{
+			inertiaLanesA = inverseInertiaLanes(m_rbA);
+			inertiaLanesB = inverseInertiaLanes(m_rbB);
+		}
 		auto axialShift = [&](const Lanes& w) {
 			if (massBlendHolds) return massBlend;
-			btVector3 about;
-			storeLanes(about, w);
-			const btScalar inertiaA = inverseInertiaAbout(m_rbA, about), inertiaB = inverseInertiaAbout(m_rbB, about);
+			const btScalar inertiaA = inverseInertiaAbout(inertiaLanesA, w), inertiaB = inverseInertiaAbout(inertiaLanesB, w);
 			// body X's share stays within invMassSum while |axial_X − δ| ≤ reach_X
 			btScalar low = -BT_LARGE_FLOAT, high = BT_LARGE_FLOAT;
 			if (inertiaA > btScalar(0))
@@ -382,10 +423,8 @@ int btQuaternionHingeConstraint::fillBilateralRows(btConstraintInfo2* info, cons
 			angularB -= g;
 			if (error) *error -= cu * errorU + cv * errorV;
 		};
-		const Lanes directions[3] = {basis.p, basis.t, basis.a};
-		for (int i = 0; i < 3; ++i, ++row)
-		{
-			const Lanes& e = directions[i];
+		// Point row i along e; written out for each of the three (always inlined: the tests on i fold away).
+		auto pointRow = [&](int i, const Lanes& e) __attribute__((always_inline)) {
 			const int at = row * skip;
 			Lanes angularA = crossLanes(e, rA), angularB = crossLanes(rB, e);
 			btScalar error = -errorScale(kLinearKind + i) * dotXyz(e, c);
@@ -420,7 +459,11 @@ int btQuaternionHingeConstraint::fillBilateralRows(btConstraintInfo2* info, cons
 			storeXyz(info->m_J2angularAxis + at, angularB);
 			info->m_constraintError[at] = error;
 			rowCfmOverride(kLinearKind + i, at);
-		}
+			++row;
+		};
+		pointRow(0, basis.p);
+		pointRow(1, basis.t);
+		pointRow(2, basis.a);
 	}
 
 	if (m_angularRowsFirst) row = 0;

@@ -24,22 +24,12 @@ SwingPolar swingPolar(const btQuaternion& q)
 	return p;
 }
 
-// Rows in joint frame A, and errors, for the relative quaternion q.
-void rowsInFrameA(const btQuaternion& q, btVector3& gu, btVector3& gv, btScalar& cu, btScalar& cv, bool& logForm)
+}  // namespace
+
+void logFormRowsInFrameA(const btQuaternion& q, const btVector3& hu, const btVector3& hv, btVector3& gu, btVector3& gv,
+						 btScalar& cu, btScalar& cv)
 {
 	const btScalar w = q.w(), x = q.x(), y = q.y(), z = q.z();
-	// (Q7) q0 x̂ + q_v × x̂ and q0 ŷ + q_v × ŷ; with the Q9 factor 2 the ½ of Q7 cancels.
-	const btVector3 hu(w, z, -y);
-	const btVector3 hv(-z, w, x);
-	logForm = beyondQuarterTurn(q);  // the swing-logarithm form past 90° (header, Q12)
-	if (!logForm)
-	{
-		gu = hu;  // (Q7, Q9)
-		gv = hv;
-		cu = btScalar(2) * x;  // (Q4, Q9)
-		cv = btScalar(2) * y;
-		return;
-	}
 	// Swing logarithm C_L = (φ/s)(q_x, q_y) and its exact derivative (header, Q12):
 	//   dφ = m,  m = rotate((q_x, q_y)/s, by the angle of (q0, q_z)/c)   (unit, ⟂ ẑ)
 	//   d(q_x) = ½ hu,  d(q_y) = ½ hv,  d(φ/s) = β m,  β = (2s − φc)/(2s²)
@@ -67,7 +57,6 @@ void rowsInFrameA(const btQuaternion& q, btVector3& gu, btVector3& gv, btScalar&
 	cu = btScalar(2) * kappa * x;
 	cv = btScalar(2) * kappa * y;
 }
-}  // namespace
 
 btScalar swingAngle(const btQuaternion& q) { return swingPolar(q).phi; }
 
@@ -85,15 +74,6 @@ void computeAngularRows(const btMatrix3x3& frameAInWorld, const btQuaternion& q,
 	// (Q7) Ċ = g·(ω_B − ω_A) with g = R_A (…): rows in world coordinates.
 	out.rowU = frameAInWorld * gu;
 	out.rowV = frameAInWorld * gv;
-}
-
-void computeAngularRowsFromAxes(const btMatrix3x3& axesA, const btQuaternion& q, AngularRows& out)
-{
-	btVector3 gu, gv;
-	rowsInFrameA(q, gu, gv, out.errorU, out.errorV, out.logForm);
-	// (Q7) g = R_A (…), R_A's columns being frame A's axes (MatrixLanes.h: the products of btMatrix3x3 * btVector3).
-	storeLanes(out.rowU, timesTransposed(axesA, gu));
-	storeLanes(out.rowV, timesTransposed(axesA, gv));
 }
 
 void computeAngularRows(const btQuaternion& a, const btQuaternion& b, AngularRows& out)

@@ -25,6 +25,7 @@
 #include "LinearMath/btMatrix3x3.h"
 #include "LinearMath/btQuaternion.h"
 #include "LinearMath/btVector3.h"
+#include "MatrixLanes.h"
 
 namespace quathinge
 {
@@ -45,6 +46,31 @@ inline bool beyondQuarterTurn(const btQuaternion& q) { return q.w() * q.w() + q.
 /// (Q2) q = a* ⊗ b.
 inline btQuaternion relativeQuaternion(const btQuaternion& a, const btQuaternion& b) { return a.inverse() * b; }
 
+/// The log form's rows in joint frame A and their errors (Q12), given hu, hv (rowsInFrameA); out of line: asked only
+/// for a joint more than 90° off its axis.
+void logFormRowsInFrameA(const btQuaternion& q, const btVector3& hu, const btVector3& hv, btVector3& gu, btVector3& gv,
+						 btScalar& cu, btScalar& cv);
+
+/// Rows in joint frame A, and errors, for the relative quaternion q. Inline, as computeAngularRowsFromAxes below:
+/// the solver asks for them at every step.
+inline void rowsInFrameA(const btQuaternion& q, btVector3& gu, btVector3& gv, btScalar& cu, btScalar& cv, bool& logForm)
+{
+	const btScalar w = q.w(), x = q.x(), y = q.y(), z = q.z();
+	// (Q7) q0 x̂ + q_v × x̂ and q0 ŷ + q_v × ŷ; with the Q9 factor 2 the ½ of Q7 cancels.
+	const btVector3 hu(w, z, -y);
+	const btVector3 hv(-z, w, x);
+	logForm = beyondQuarterTurn(q);  // the swing-logarithm form past 90° (above, Q12)
+	if (!logForm)
+	{
+		gu = hu;  // (Q7, Q9)
+		gv = hv;
+		cu = btScalar(2) * x;  // (Q4, Q9)
+		cv = btScalar(2) * y;
+		return;
+	}
+	logFormRowsInFrameA(q, hu, hv, gu, gv, cu, cv);
+}
+
 /// The constraint value the rows are the derivative of (for finite-difference tests): C (Q4, Q9) or C_L.
 void angularConstraintValue(const btQuaternion& a, const btQuaternion& b, btScalar& cu, btScalar& cv);
 
@@ -56,7 +82,14 @@ void computeAngularRows(const btQuaternion& a, const btQuaternion& b, AngularRow
 void computeAngularRows(const btMatrix3x3& frameAInWorld, const btQuaternion& q, AngularRows& out);
 
 /// The same from frame A's axes in world (the rows of R_Aᵀ, as the joint keeps them): the same bits.
-void computeAngularRowsFromAxes(const btMatrix3x3& axesA, const btQuaternion& q, AngularRows& out);
+inline void computeAngularRowsFromAxes(const btMatrix3x3& axesA, const btQuaternion& q, AngularRows& out)
+{
+	btVector3 gu, gv;
+	rowsInFrameA(q, gu, gv, out.errorU, out.errorV, out.logForm);
+	// (Q7) g = R_A (…), R_A's columns being frame A's axes (MatrixLanes.h: the products of btMatrix3x3 * btVector3).
+	storeLanes(out.rowU, timesTransposed(axesA, gu));
+	storeLanes(out.rowV, timesTransposed(axesA, gv));
+}
 
 /// Swing angle φ ∈ [0, π] between the two hinge axes (the misalignment the two rows remove).
 btScalar swingAngle(const btQuaternion& q);
