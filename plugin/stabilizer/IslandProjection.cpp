@@ -103,7 +103,7 @@ struct IslandStep
 		for (JointSlot& js : island.joints)
 		{
 			js.limitTouched = 0;
-			js.limitActive = js.limitActiveInFactor = false;  // js.angleReference: read by replayIfAtRest
+			js.limitActive = js.limitActiveInFactor = false;  // js.angleReference: readAngleReferences
 		}
 	}
 
@@ -277,6 +277,12 @@ ProjectionResult projectBlocks(BlockIsland<R>& island, const ProjectionSettings&
 	return step.result;
 }
 }  // namespace
+
+void readAngleReferences(Island& island)
+{
+	for (JointSlot& js : island.joints)
+		if (js.limitSlot) js.angleReference = js.joint->getMultiTurnAngle();
+}
 
 ProjectionResult projectIsland(Island& island, const ProjectionSettings& settings)
 {

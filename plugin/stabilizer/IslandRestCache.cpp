@@ -46,7 +46,7 @@ size_t inputSize(const Island& island)
 	return n;
 }
 
-void gatherInputs(Island& island, btScalar timeStep, Array<btScalar>& out)
+void gatherInputs(const Island& island, btScalar timeStep, Array<btScalar>& out)
 {
 	const size_t n = inputSize(island);
 	if (out.size() != n) out.resize(n);  // sized once: the island's structure is fixed
@@ -64,7 +64,7 @@ void gatherInputs(Island& island, btScalar timeStep, Array<btScalar>& out)
 		g.add(body.getAngularFactor());
 		g.add(btScalar(b.contactScale));  // whether it touches something outside the island (IslandBodies.cpp)
 	}
-	for (JointSlot& js : island.joints)
+	for (const JointSlot& js : island.joints)
 	{
 		for (int s = 0; s < 2; ++s)
 			if (js.body[s] < 0)  // a fixed partner (static, kinematic, asleep): its pose and velocity enter the rows
@@ -79,13 +79,9 @@ void gatherInputs(Island& island, btScalar timeStep, Array<btScalar>& out)
 		g.add(btScalar((settings.useReferenceFrameA ? 1 : 0) + (settings.angularOnly ? 2 : 0) + (settings.hasLimit ? 4 : 0)));
 		g.add(settings.lowerLimit);
 		g.add(settings.upperLimit);
-		// the projection's limit row starts from the joint's multi-turn angle: read here, once per step, for both
-		// (only where the projection reads it)
-		if (js.limitSlot)
-		{
-			js.angleReference = js.joint->getMultiTurnAngle();
-			g.add(js.angleReference);
-		}
+		// the projection's limit row starts from the joint's multi-turn angle (readAngleReferences; only where the
+		// projection reads it)
+		if (js.limitSlot) g.add(js.angleReference);
 	}
 	btAssert(g.at == out.data() + n);
 }

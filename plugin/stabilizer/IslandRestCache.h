@@ -22,8 +22,7 @@ namespace stabilizer
 {
 /// If `island` starts this step exactly as it started the last one, applies the last projection's result to its
 /// bodies, sets `result` to it (its work counters zero) and returns true. Else keeps this step's inputs for
-/// rememberProjection and returns false. Either way it reads each limited joint's multi-turn angle into
-/// JointSlot::angleReference, where projectIsland starts from it: call it first every step.
+/// rememberProjection and returns false. The joints' angle references must be this step's (readAngleReferences).
 bool replayIfAtRest(Island& island, btScalar timeStep, ProjectionResult& result);
 /// After a projection of `island` (replayIfAtRest returned false): keeps its result for the next step.
 void rememberProjection(Island& island, const ProjectionResult& result);

@@ -94,7 +94,7 @@ struct JointSlot
 	int rows;               // bilateralRows + limitSlot
 
 	// Per step.
-	btScalar angleReference;   // multi-turn angle at the step's start (getHingeAngle's sign; set by replayIfAtRest)
+	btScalar angleReference;   // multi-turn angle at the step's start (getHingeAngle's sign; readAngleReferences)
 	btScalar angle;            // multi-turn angle at the last evaluation
 	bool limitActive;          // the limit row is in the system (else a padding row)
 	bool limitActiveInFactor;  // … as it was when K was last factorized
@@ -209,7 +209,11 @@ struct ProjectionSettings
 	double rotationWeight;  // the position metric's inertia factor (btQuaternionHingeStabilizerSettings)
 };
 
-/// Q13 then Q14 on one island (after replayIfAtRest, which reads the limited joints' angles for it).
+/// Each limited joint's multi-turn angle at the step's start into JointSlot::angleReference: what the rest check
+/// compares and the projection's limit row continues from, read once per step before both.
+void readAngleReferences(Island& island);
+
+/// Q13 then Q14 on one island (its angle references read this step: readAngleReferences).
 ProjectionResult projectIsland(Island& island, const ProjectionSettings& settings);
 
 /// conserveEnergy: scales the island's velocities back toward its reference energy (EnergyProjection.cpp); returns

@@ -172,6 +172,7 @@ const btQuaternionHingeStabilizerStats& btQuaternionHingeStabilizer::stabilize(b
 	{
 		Island& island = *islandPtr;
 		ProjectionResult r;
+		readAngleReferences(island);
 		if (!replayIfAtRest(island, timeStep, r))
 		{
 			r = projectIsland(island, settings);
