@@ -39,8 +39,12 @@ pcfile=$(find "$prefix" -name "$pc.pc" -path '*/pkgconfig/*' | head -n1)
 [ -n "$pcfile" ] || fail "$pc.pc not installed under $prefix"
 export PKG_CONFIG_PATH="$(dirname "$pcfile")${PKG_CONFIG_PATH:+:$PKG_CONFIG_PATH}"
 libdir=$(pkg-config --variable=libdir "$pc")
-# shellcheck disable=SC2046  # the flags are meant to split
-g++ -std=c++17 -O1 "$here/main.cpp" -o "$scratch/pc-app" $(pkg-config --cflags --libs "$pc") -Wl,-rpath,"$libdir"
+# Every -L directory in the run path (README's line): this prefix's, and a shared Bullet's outside the system
+# directories (built from source into a prefix), whose SONAMEs are Debian's own (libBulletDynamics.so.3.24 …), so
+# that without it the loader would take Debian's Bullet, of whatever precision, when both are installed.
+rpath=$(pkg-config --libs-only-L "$pc" | sed 's/-L/-Wl,-rpath,/g')
+# shellcheck disable=SC2046,SC2086  # the flags are meant to split
+g++ -std=c++17 -O1 "$here/main.cpp" -o "$scratch/pc-app" $(pkg-config --cflags --libs "$pc") $rpath
 out=$("$scratch/pc-app")
 echo "pkg-config: $out"
 grep -q "sizeof(btScalar)=$want " <<<"$out" || fail "pkg-config build: expected sizeof(btScalar)=$want"
