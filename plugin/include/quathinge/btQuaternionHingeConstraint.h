@@ -392,9 +392,10 @@ private:
 QUATHINGE_API void btSwapConstraintInWorld(btDynamicsWorld * world, btTypedConstraint * constraint,
 										   btTypedConstraint * replacement);
 
-/// Replaces every btHingeConstraint in `world` by its equivalent btQuaternionHingeConstraint (same place in the
-/// world's constraint list order is not kept: each is removed and the replacement added, with the same
-/// disableCollisionsBetweenLinkedBodies choice as far as the world can tell it). Returns how many it replaced.
+/// Replaces every btHingeConstraint in `world` by its equivalent btQuaternionHingeConstraint, each in the stock
+/// hinge's place in the world's constraint order (the order the solver meets them in), with the same
+/// disableCollisionsBetweenLinkedBodies choice as far as the world can tell it; the other constraints keep their
+/// places and choices too. Returns how many it replaced.
 /// Ownership: the world never owned constraints, and this function deletes nothing. The replacements are allocated
 /// here with new and belong to the caller: each is appended to *added (if not null); the caller removes them from
 /// the world and deletes them (before the bodies go). The removed stock hinges stay with whoever allocated them: each
