@@ -63,6 +63,44 @@ TEST(ReplaceHingeConstraints, KeepsTheWorldsConstraintOrder)
 	for (int i = 0; i < 7; ++i) delete before[i];
 }
 
+TEST(SwapConstraintInWorld, KeepsThePlaceOfTheConstraintItReplaces)
+{
+	// Five point-to-point constraints; each place swapped in turn (first, middle, last): the replacement is where the
+	// old one was, every other constraint where it was, each with its collision choice.
+	qh_test::World world;
+	btDiscreteDynamicsWorld& w = world.world();
+	btRigidBody* a = world.addBox(0, btVector3(1, 1, 1), btTransform::getIdentity());
+	btRigidBody* b = world.addBox(1, btVector3(1, 1, 1), btTransform(btQuaternion::getIdentity(), btVector3(0, -2, 0)));
+	btTypedConstraint* constraints[5];
+	for (int i = 0; i < 5; ++i)
+	{
+		constraints[i] = new btPoint2PointConstraint(*a, *b, btVector3(btScalar(i), -1, 0), btVector3(btScalar(i), 1, 0));
+		w.addConstraint(constraints[i], i % 2 == 1);
+	}
+	btTypedConstraint* replaced[5] = {};
+	for (int place : {0, 2, 4})
+	{
+		replaced[place] = constraints[place];
+		constraints[place] = new btPoint2PointConstraint(*a, *b, btVector3(0, -1, btScalar(place)), btVector3(0, 1, 0));
+		btSwapConstraintInWorld(&w, replaced[place], constraints[place]);
+		ASSERT_EQ(w.getNumConstraints(), 5);
+		for (int i = 0; i < 5; ++i)
+		{
+			EXPECT_EQ(w.getConstraint(i), constraints[i]) << "after swapping place " << place << ": place " << i;
+			int refs = 0;
+			for (int k = 0; k < a->getNumConstraintRefs(); ++k) refs += a->getConstraintRef(k) == constraints[i];
+			EXPECT_EQ(refs, i % 2 == 1 ? 1 : 0) << "collision choice, place " << i;
+		}
+	}
+	world.step(5);
+	for (int i = 4; i >= 0; --i) w.removeConstraint(w.getConstraint(i));
+	for (int i = 0; i < 5; ++i)
+	{
+		delete constraints[i];
+		delete replaced[i];
+	}
+}
+
 #ifdef QUATHINGE_HAVE_SCENES
 #include "JointKinds.h"
 #include "SceneSpec.h"

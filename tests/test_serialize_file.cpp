@@ -191,6 +191,10 @@ void checkQuaternionLoad(const std::vector<char>& file, bool exact)
 	expectSameJoint(*reference.servo, *servo, exact);
 	EXPECT_EQ(importer.getConstraintByName("elbow"), everything);
 	EXPECT_EQ(&servo->getRigidBodyB(), &btTypedConstraint::getFixedBody());
+	// and so does the world's (the order Bullet's solver meets them in, as in the world that was saved): each
+	// quaternion hinge in its stock hinge's place
+	for (int i = 0; i < 5; ++i)
+		EXPECT_EQ(target.world.world().getConstraint(i), importer.getConstraintByIndex(i)) << "place " << i;
 	// disableCollisionsBetweenLinkedBodies as written: true for motorised (a body refers to it), false for everything
 	auto refersTo = [](btRigidBody& body, const btTypedConstraint* c) {
 		for (int i = 0; i < body.getNumConstraintRefs(); ++i)

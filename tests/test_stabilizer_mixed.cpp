@@ -1,10 +1,10 @@
 // Mixed ragdolls (issue 15): the layout of Bullet's RagdollDemo (bullet3, examples/RagdollDemo/RagdollDemo.cpp in the
 // 2.x demos: 11 capsules, hinges at the spine, knees and elbows, btConeTwistConstraints at the neck, hips and
 // shoulders, its damping and sleeping thresholds), four of them dropped on a ground box, their stock hinges swapped
-// for quaternion hinges one at a time by btSwapConstraintInWorld, as an app swapping its own hinges would. The
-// stabilizer projects only the quaternion hinges; it must not make what it does not see worse: the cone twists' pivot
-// separation and how far the bodies sink into the ground and into each other, against the same world without it.
-// Built when QuatHinge::Stabilizer is.
+// for quaternion hinges one at a time by removeConstraint and addConstraint, as an app swapping its own hinges by
+// hand would. The stabilizer projects only the quaternion hinges; it must not make what it does not see worse: the
+// cone twists' pivot separation and how far the bodies sink into the ground and into each other, against the same
+// world without it. Built when QuatHinge::Stabilizer is.
 #ifdef QUATHINGE_HAVE_STABILIZER
 #include "support/StabilizerScene.h"
 
@@ -61,14 +61,14 @@ public:
 			ragdoll(btVector3(btScalar(2 * i - 3), btScalar(0.5 + 0.3 * i), 0), btScalar(i - 1.5 + 0.37 * variant));
 		if (kind != Kind::Stock)
 		{
-			// Each stock hinge swapped for its replacement where the app holds it (btSwapConstraintInWorld, one at a
-			// time: removeConstraint moves the world's last constraint into the freed place), not through
-			// btReplaceHingeConstraints, which keeps the world's order. These ragdolls are chaotic: the bounds below
-			// were set on this world, in this order, and a world in another order is another sample. With
-			// btReplaceHingeConstraints' order, the double build's late ground penetration (8 spins) is 7.2e-3 m
-			// against a bound of 6.4e-3 m. Over 32 spins the stabilized ragdolls sink 1.3–1.7× deeper than the bare
-			// ones late in the run in either order, which this 8-spin sample does not show: README, "Mixed ragdolls",
-			// the paragraph "Not solved".
+			// Each stock hinge removed and its replacement added, one at a time, as an app replacing its own hinges by
+			// hand does (removeConstraint moves the world's last constraint into the freed place, addConstraint
+			// appends: the world's order changes), not through btSwapConstraintInWorld or btReplaceHingeConstraints,
+			// which keep each hinge's place. These ragdolls are chaotic: the bounds below were set on this world, in
+			// this order, and a world in another order is another sample. In the stock hinges' order, the double
+			// build's late ground penetration (8 spins) is 7.2e-3 m against a bound of 6.4e-3 m. Over 32 spins the
+			// stabilized ragdolls sink 1.3–1.7× deeper than the bare ones late in the run in either order, which this
+			// 8-spin sample does not show: README, "Mixed ragdolls", the paragraph "Not solved".
 			btAlignedObjectArray<btHingeConstraint*> stock;
 			for (int i = 0; i < m_world->getNumConstraints(); ++i)
 				if (m_world->getConstraint(i)->getConstraintType() == HINGE_CONSTRAINT_TYPE)
@@ -77,7 +77,8 @@ public:
 			for (int i = 0; i < stock.size(); ++i)
 			{
 				auto* replacement = new btQuaternionHingeConstraint(*stock[i]);
-				btSwapConstraintInWorld(m_world.get(), stock[i], replacement);
+				m_world->removeConstraint(stock[i]);
+				m_world->addConstraint(replacement, true);  // as RagdollDemo adds every joint
 				m_constraints.emplace_back(replacement);
 			}
 		}

@@ -66,50 +66,48 @@ btQuaternionHingeConstraint::btQuaternionHingeConstraint(const btHingeConstraint
 
 void btSwapConstraintInWorld(btDynamicsWorld* world, btTypedConstraint* constraint, btTypedConstraint* replacement)
 {
+	// The replacement takes the constraint's place in the world's constraint order, the order Bullet's solver meets
+	// the joints in (Gauss–Seidel's result after a fixed number of iterations depends on it: spider.bullet's hinges,
+	// swapped one by one in another order, separated 1.22× stock's at 10 iterations against 1.01× in place; issue 16,
+	// docs/ROW_BASIS.md). Bullet's removeConstraint moves the world's last constraint into the freed place and
+	// addConstraint appends, so after the swap the former last constraint sits in that place and the replacement at
+	// the end; taking the former last out and adding it again swaps them back. Three linear searches, no copy of the
+	// list. A world that removes otherwise keeps whatever order it made (every constraint is still in it).
+	const int count = world->getNumConstraints();
+	int place = -1;
+	for (int i = 0; i < count && place < 0; ++i)
+		if (world->getConstraint(i) == constraint) place = i;
+	btTypedConstraint* last = count > 0 ? world->getConstraint(count - 1) : 0;
 	// addConstraint(c, true) registers c with both bodies; that is how the world remembers the choice.
 	const bool disableCollisions = bodyRefersTo(constraint->getRigidBodyA(), constraint);
 	world->removeConstraint(constraint);
 	world->addConstraint(replacement, disableCollisions);
+	if (place < 0 || last == constraint || place >= world->getNumConstraints() || world->getConstraint(place) != last)
+		return;
+	const bool lastDisablesCollisions = bodyRefersTo(last->getRigidBodyA(), last);
+	world->removeConstraint(last);  // the replacement, now the last, moves into its place
+	world->addConstraint(last, lastDisablesCollisions);
 }
 
 int btReplaceHingeConstraints(btDynamicsWorld* world, btAlignedObjectArray<btQuaternionHingeConstraint*>* added,
 							  btAlignedObjectArray<btHingeConstraint*>* removedStock)
 {
-	// The world's constraint order is kept: Bullet's solver meets the joints in that order (island by island), and
-	// Gauss–Seidel's result after a fixed number of iterations depends on it. removeConstraint moves the world's last
-	// constraint into the freed place and addConstraint appends, so swapping the hinges one by one permuted the
-	// order: spider.bullet's 24 hinges were then solved in another order than stock's, which alone made their
-	// separation 1.22× stock's at 10 iterations (1.01× in stock's order; issue 16, docs/ROW_BASIS.md). So every
-	// constraint from the first hinge on is taken out, last first (no swap then), and put back in its old order,
-	// each hinge as its replacement, each with the disableCollisionsBetweenLinkedBodies choice it had.
-	int first = -1, replaced = 0;
-	for (int i = 0; i < world->getNumConstraints() && first < 0; ++i)
-		if (world->getConstraint(i)->getConstraintType() == HINGE_CONSTRAINT_TYPE) first = i;
-	if (first < 0) return 0;
-	btAlignedObjectArray<btTypedConstraint*> tail;
-	btAlignedObjectArray<bool> disableCollisions;
-	for (int i = first; i < world->getNumConstraints(); ++i)
+	btAlignedObjectArray<btHingeConstraint*> stockHinges;
+	for (int i = 0; i < world->getNumConstraints(); ++i)
 	{
 		btTypedConstraint* constraint = world->getConstraint(i);
-		tail.push_back(constraint);
-		disableCollisions.push_back(bodyRefersTo(constraint->getRigidBodyA(), constraint));
-	}
-	for (int i = tail.size() - 1; i >= 0; --i) world->removeConstraint(tail[i]);
-	for (int i = 0; i < tail.size(); ++i)
-	{
-		btTypedConstraint* constraint = tail[i];
 		if (constraint->getConstraintType() == HINGE_CONSTRAINT_TYPE)
-		{
-			btHingeConstraint* stock = static_cast<btHingeConstraint*>(constraint);
-			btQuaternionHingeConstraint* replacement = new btQuaternionHingeConstraint(*stock);
-			constraint = replacement;
-			++replaced;
-			if (added) added->push_back(replacement);
-			// never deleted here: this function did not allocate it (a world importer owns the hinges it loaded and
-			// deletes them in deleteAllData; an app deletes its own)
-			if (removedStock) removedStock->push_back(stock);
-		}
-		world->addConstraint(constraint, disableCollisions[i]);
+			stockHinges.push_back(static_cast<btHingeConstraint*>(constraint));
 	}
-	return replaced;
+	for (int i = 0; i < stockHinges.size(); ++i)
+	{
+		btHingeConstraint* stock = stockHinges[i];
+		btQuaternionHingeConstraint* replacement = new btQuaternionHingeConstraint(*stock);
+		btSwapConstraintInWorld(world, stock, replacement);  // in the stock hinge's place
+		if (added) added->push_back(replacement);
+		// never deleted here: this function did not allocate it (a world importer owns the hinges it loaded and deletes
+		// them in deleteAllData; an app deletes its own)
+		if (removedStock) removedStock->push_back(stock);
+	}
+	return stockHinges.size();
 }

@@ -386,7 +386,8 @@ private:
 	friend struct quathinge::SolverRowBasisAccess;
 };
 
-/// Puts `replacement` in `world` in place of `constraint`: removes it and adds the replacement with the same
+/// Puts `replacement` in `world` in place of `constraint`: in its place in the world's constraint order (the order
+/// Bullet's solver meets them in; every other constraint keeps its place), with the same
 /// disableCollisionsBetweenLinkedBodies choice as far as the world can tell it (addConstraint(c, true) registers c
 /// with its bodies). Deletes nothing. (btReplaceHingeConstraints and btQuaternionHingeWorldImporter swap through it.)
 QUATHINGE_API void btSwapConstraintInWorld(btDynamicsWorld * world, btTypedConstraint * constraint,
