@@ -12,10 +12,13 @@ models=${QUATHINGE_MODELS_DIR:-demos/models}
 out=demos/out/soak
 mkdir -p "$out"
 : >"$out/soak.txt"
+# Every run goes into the table, a failed one too (its line says where it stopped); the script fails at the end.
+failed=0
 for run in "chain30 quaternion" "chain30 quaternion+stab" "spider quaternion" "spider quaternion+stab"; do
   set -- $run
   ./build/demos/quathinge-compare -s "$1" -k "$2" --soak "$steps" -j1 --models "$models" -o "$out/$1-$2" \
-    | grep " steps " >>"$out/soak.txt"
+    >"$out/$1-$2.txt" || failed=1
+  grep " steps " "$out/$1-$2.txt" >>"$out/soak.txt"
 done
 /usr/bin/python3 - "$out/soak.txt" <<'PY'
 import re, sys
@@ -28,3 +31,4 @@ if n != 1:
 open("README.md", "w").write(text)
 print(lines)
 PY
+[ "$failed" = 0 ] || { echo "make_soak: a run failed (its line above)" >&2; exit 1; }
