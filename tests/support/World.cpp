@@ -101,6 +101,13 @@ bool finiteState(const btRigidBody& body)
 	return std::isfinite(double(sum.x())) && std::isfinite(double(sum.y())) && std::isfinite(double(sum.z()));
 }
 
+int constraintRefs(btRigidBody& body, const btTypedConstraint* constraint)
+{
+	int refs = 0;
+	for (int i = 0; i < body.getNumConstraintRefs(); ++i) refs += body.getConstraintRef(i) == constraint;
+	return refs;
+}
+
 void placeOnHinge(btRigidBody& a, const btTransform& frameA, btRigidBody& b, const btTransform& frameB, btScalar theta)
 {
 	const btTransform turn(btQuaternion(btVector3(0, 0, 1), theta));

@@ -70,6 +70,10 @@ btQuaternion expRotation(const btVector3& w);
 /// True when the body's transform and velocities are all finite.
 bool finiteState(const btRigidBody& body);
 
+/// How many times `body` holds `constraint` among its constraint references: a world registers a constraint with
+/// its bodies when it was added with disableCollisionsBetweenLinkedBodies = true (once), else not at all.
+int constraintRefs(btRigidBody& body, const btTypedConstraint* constraint);
+
 /// Moves the dynamic one of the two bodies (B unless B is static) so that the joint frames coincide in position and
 /// hinge axis, with joint frame B turned by theta (rad) about the hinge axis from joint frame A: the pose of a perfect
 /// hinge at quaternion angle θ (MATH.md Q4, Q11).
