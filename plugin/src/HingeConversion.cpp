@@ -102,7 +102,11 @@ int btReplaceHingeConstraints(btDynamicsWorld* world, btAlignedObjectArray<btQua
 	for (int i = 0; i < stockHinges.size(); ++i)
 	{
 		btHingeConstraint* stock = stockHinges[i];
-		btQuaternionHingeConstraint* replacement = new btQuaternionHingeConstraint(*stock);
+		// a btHingeAccumulatedAngleConstraint becomes the class with its names, its count of turns carried over
+		btQuaternionHingeConstraint* replacement =
+			dynamic_cast<btHingeAccumulatedAngleConstraint*>(stock)
+				? new btQuaternionHingeAccumulatedAngleConstraint(*stock)
+				: new btQuaternionHingeConstraint(*stock);
 		btSwapConstraintInWorld(world, stock, replacement);  // in the stock hinge's place
 		if (added) added->push_back(replacement);
 		// never deleted here: this function did not allocate it (a world importer owns the hinges it loaded and deletes

@@ -386,6 +386,40 @@ private:
 	friend struct quathinge::SolverRowBasisAccess;
 };
 
+/// The drop-in for btHingeAccumulatedAngleConstraint, stock's hinge subclass that counts turns: the same four
+/// constructors and getAccumulatedHingeAngle / setAccumulatedHingeAngle with stock's meanings. The accumulated angle
+/// is the multi-turn angle (getMultiTurnAngle: getHingeAngle's sign), tracked from construction on as stock's is.
+/// One difference, deliberate: stock's update starts again from the wrapped angle whenever the hinge turned more than
+/// 0.3 rad since the last update (a hinge turning faster than 18 rad/s at 60 Hz loses its count); the multi-turn
+/// angle follows any turn of less than π per step. As with stock, the limit is not affected by this class (the
+/// quaternion hinge's limit always acts on the multi-turn angle).
+ATTRIBUTE_ALIGNED16(class)
+QUATHINGE_API btQuaternionHingeAccumulatedAngleConstraint : public btQuaternionHingeConstraint
+{
+public:
+	BT_DECLARE_ALIGNED_ALLOCATOR();
+
+	btQuaternionHingeAccumulatedAngleConstraint(btRigidBody & rbA, btRigidBody & rbB, const btVector3& pivotInA,
+												const btVector3& pivotInB, const btVector3& axisInA,
+												const btVector3& axisInB, bool useReferenceFrameA = false);
+	btQuaternionHingeAccumulatedAngleConstraint(btRigidBody & rbA, const btVector3& pivotInA, const btVector3& axisInA,
+												bool useReferenceFrameA = false);
+	btQuaternionHingeAccumulatedAngleConstraint(btRigidBody & rbA, btRigidBody & rbB, const btTransform& rbAFrame,
+												const btTransform& rbBFrame, bool useReferenceFrameA = false);
+	btQuaternionHingeAccumulatedAngleConstraint(btRigidBody & rbA, const btTransform& rbAFrame,
+												bool useReferenceFrameA = false);
+	/// The equivalent of a stock hinge (btQuaternionHingeConstraint's conversion); from a
+	/// btHingeAccumulatedAngleConstraint its count of turns is carried over (setAccumulatedHingeAngle).
+	explicit btQuaternionHingeAccumulatedAngleConstraint(const btHingeConstraint& stock);
+
+	/// The hinge angle with its whole turns (rad), brought up to the current pose.
+	btScalar getAccumulatedHingeAngle() { return getMultiTurnAngle(); }
+	/// As stock (whose next update does this to the value stored): the angle becomes the current pose's angle plus the
+	/// whole turns that bring it nearest accAngle when that is within 0.3 rad of accAngle, else the current wrapped
+	/// angle (getHingeAngle()). accAngle must be finite and within ±1e6 rad (refused otherwise, naming it).
+	void setAccumulatedHingeAngle(btScalar accAngle);
+};
+
 /// Puts `replacement` in `world` in place of `constraint`: in its place in the world's constraint order (the order
 /// Bullet's solver meets them in; every other constraint keeps its place), with the same
 /// disableCollisionsBetweenLinkedBodies choice as far as the world can tell it (addConstraint(c, true) registers c
@@ -393,7 +427,8 @@ private:
 QUATHINGE_API void btSwapConstraintInWorld(btDynamicsWorld * world, btTypedConstraint * constraint,
 										   btTypedConstraint * replacement);
 
-/// Replaces every btHingeConstraint in `world` by its equivalent btQuaternionHingeConstraint, each in the stock
+/// Replaces every btHingeConstraint in `world` by its equivalent btQuaternionHingeConstraint (a
+/// btHingeAccumulatedAngleConstraint by a btQuaternionHingeAccumulatedAngleConstraint with its count), each in the stock
 /// hinge's place in the world's constraint order (the order the solver meets them in), with the same
 /// disableCollisionsBetweenLinkedBodies choice as far as the world can tell it; the other constraints keep their
 /// places and choices too. Returns how many it replaced.
