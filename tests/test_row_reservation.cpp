@@ -9,6 +9,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <vector>
@@ -136,5 +137,44 @@ TEST(RowReservation, SettersBetweenInfo1AndInfo2NeverOverrunTheReservation)
 		p.hinge.getInfo2(&rows.info);
 		EXPECT_TRUE(rows.guardIntact()) << "change " << change;
 		EXPECT_LE(rows.written(), reserved) << "change " << change;
+	}
+}
+
+TEST(RowReservation, StocksInternalRowFormsWriteWhatGetInfo2NonVirtualWrites)
+{
+	// getInfo2Internal and getInfo2InternalUsingFrameOffset (stock's two formulations, here kept for source
+	// compatibility): the same rows, bit for bit, as getInfo2NonVirtual at the same arguments, inside the same
+	// reservation, at a free pose and past a stop.
+	for (double angle : {0.3, 1.3})
+	{
+		Pair reference, internal, offset;
+		for (Pair* p : {&reference, &internal, &offset})
+		{
+			p->hinge.setLimit(-1, 1, 1);
+			p->hinge.enableAngularMotor(true, 1, 2);
+		}
+		btTypedConstraint::btConstraintInfo1 info1;
+		for (Pair* p : {&internal, &offset, &reference}) p->hinge.getInfo1NonVirtual(&info1);  // as the solver does
+		RowBuffers r(info1.m_numConstraintRows, 2), i(info1.m_numConstraintRows, 2), o(info1.m_numConstraintRows, 2);
+		const btVector3 w0(0, 0, 0), w1(0, 0, btScalar(0.5));
+		reference.hinge.getInfo2NonVirtual(&r.info, btTransform::getIdentity(), turned(angle), w0, w1);
+		internal.hinge.getInfo2Internal(&i.info, btTransform::getIdentity(), turned(angle), w0, w1);
+		offset.hinge.getInfo2InternalUsingFrameOffset(&o.info, btTransform::getIdentity(), turned(angle), w0, w1);
+		for (const RowBuffers* b : {&i, &o})
+		{
+			EXPECT_TRUE(b->guardIntact()) << "angle " << angle;
+			EXPECT_EQ(b->written(), r.written()) << "angle " << angle;
+			// every array, the guard rows' sentinels (NaN) included
+			auto same = [](const std::vector<btScalar>& x, const std::vector<btScalar>& y) {
+				return std::equal(x.begin(), x.end(), y.begin(), y.end(),
+								  [](btScalar u, btScalar v) { return u == v || (std::isnan(u) && std::isnan(v)); });
+			};
+			EXPECT_TRUE(same(b->j1lin, r.j1lin) && same(b->j1ang, r.j1ang) && same(b->j2lin, r.j2lin) &&
+						same(b->j2ang, r.j2ang))
+				<< "angle " << angle;
+			EXPECT_TRUE(same(b->error, r.error) && same(b->cfm, r.cfm)) << "angle " << angle;
+			EXPECT_TRUE(same(b->lower, r.lower) && same(b->upper, r.upper)) << "angle " << angle;
+		}
+		EXPECT_EQ(r.written(), angle > 1 ? info1.m_numConstraintRows : info1.m_numConstraintRows - 1);
 	}
 }

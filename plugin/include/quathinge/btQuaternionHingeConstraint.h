@@ -179,6 +179,20 @@ public:
 	/// As getInfo2, for given transforms and angular velocities (used by btHingeConstraint-style callers).
 	void getInfo2NonVirtual(btConstraintInfo2 * info, const btTransform& transA, const btTransform& transB,
 							const btVector3& angVelA, const btVector3& angVelB);
+	/// Stock's two row formulations, between which its getInfo2NonVirtual chooses by useFrameOffset. The exact rows have
+	/// one form, so both are getInfo2NonVirtual (source compatibility). One difference: stock's take the limit state of
+	/// its last testLimit; these test the limit at the transforms given, as getInfo2NonVirtual does, so their rows
+	/// stay within what getInfo1NonVirtual reserved whatever transforms a caller passes.
+	void getInfo2Internal(btConstraintInfo2 * info, const btTransform& transA, const btTransform& transB,
+						  const btVector3& angVelA, const btVector3& angVelB)
+	{
+		getInfo2NonVirtual(info, transA, transB, angVelA, angVelB);
+	}
+	void getInfo2InternalUsingFrameOffset(btConstraintInfo2 * info, const btTransform& transA, const btTransform& transB,
+										  const btVector3& angVelA, const btVector3& angVelB)
+	{
+		getInfo2NonVirtual(info, transA, transB, angVelA, angVelB);
+	}
 	void updateRHS(btScalar /*timeStep*/) {}
 
 	/// ERP / STOP_ERP / CFM / STOP_CFM. axis −1 or 5 means what it means for stock: ERP for every row, CFM for the
