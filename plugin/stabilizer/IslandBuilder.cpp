@@ -3,6 +3,7 @@
 #include "StabilizerIsland.h"
 
 #include "quathinge/btQuaternionHingeConstraint.h"
+#include "quathinge/btQuaternionHingeStabilizer.h"
 
 #include "BulletDynamics/Dynamics/btDynamicsWorld.h"
 #include "BulletDynamics/Dynamics/btRigidBody.h"
@@ -21,9 +22,11 @@ bool isMovable(const btRigidBody& body)
 		   (body.getInvMass() > 0 || !body.getInvInertiaDiagLocal().isZero());
 }
 
-void scanWorld(btDynamicsWorld& world, bool projectLimits, UpcastCache& upcasts, Array<SignatureEntry>& out)
+int scanWorld(btDynamicsWorld& world, bool projectLimits, const btQuaternionHingeStabilizerFilter* filter,
+			  UpcastCache& upcasts, Array<SignatureEntry>& out)
 {
 	out.clear();
+	int filtered = 0;
 	const int n = world.getNumConstraints();
 	upcasts.constraints.resize(size_t(n), nullptr);
 	upcasts.hinges.resize(size_t(n), nullptr);
@@ -58,10 +61,16 @@ void scanWorld(btDynamicsWorld& world, bool projectLimits, UpcastCache& upcasts,
 		// a faulted joint (refused frame edit, bad body state) re-enabled with setEnabled(true) instead of
 		// clearFault(): the solver gets no rows from it, and the stabilizer must not project onto its refused frame
 		if (hinge->getFault() != BT_QHINGE_FAULT_NONE) continue;
+		if (filter && !filter->needsStabilization(*hinge))
+		{
+			++filtered;
+			continue;
+		}
 		if (hinge->getAngularOnly()) e.flags |= SignatureEntry::kAngularOnly;
 		if (projectLimits && hinge->getSettings().hasLimit) e.flags |= SignatureEntry::kLimitSlot;
 		out.push_back(e);
 	}
+	return filtered;
 }
 
 namespace

@@ -32,6 +32,7 @@ class btDynamicsWorld;
 class btRigidBody;
 class btTypedConstraint;
 class btQuaternionHingeConstraint;
+struct btQuaternionHingeStabilizerFilter;
 
 namespace quathinge
 {
@@ -66,8 +67,10 @@ struct UpcastCache
 	Array<btQuaternionHingeConstraint*> hinges;
 };
 
-/// Appends the world's enabled quaternion hinges with a movable body, in constraint order, to out (cleared first).
-void scanWorld(btDynamicsWorld& world, bool projectLimits, UpcastCache& upcasts, Array<SignatureEntry>& out);
+/// Appends the world's enabled quaternion hinges with a movable body that `filter` (if any) keeps, in constraint
+/// order, to out (cleared first); returns how many the filter left out.
+int scanWorld(btDynamicsWorld& world, bool projectLimits, const btQuaternionHingeStabilizerFilter* filter,
+			  UpcastCache& upcasts, Array<SignatureEntry>& out);
 
 struct IslandBody
 {

@@ -119,7 +119,7 @@ const btQuaternionHingeStabilizerStats& btQuaternionHingeStabilizer::stabilize(b
 	m_stats = btQuaternionHingeStabilizerStats();
 
 	Impl& impl = *m_impl;
-	scanWorld(*world, m_settings.projectLimits, impl.upcasts, impl.scan);
+	m_stats.filteredJoints = scanWorld(*world, m_settings.projectLimits, m_filter, impl.upcasts, impl.scan);
 	if (!impl.built || impl.scan.size() != impl.signature.size() ||
 		!std::equal(impl.scan.begin(), impl.scan.end(), impl.signature.begin()))
 	{

@@ -82,6 +82,7 @@ Eigen is a private dependency of this library: nothing here includes it.
 
 class btCollisionWorld;
 class btDynamicsWorld;
+class btQuaternionHingeConstraint;
 class btIDebugDraw;
 
 /// Which factorization solves an island's K.
@@ -157,6 +158,7 @@ struct btQuaternionHingeStabilizerStats
 	int velocitiesWithinTolerance = 0;  ///< islands projected whose J v was already within tolerance: no velocity solve
 	int sparseIslands = 0;        ///< of which solved by the general sparse LDLᵀ (closed loops, or forced)
 	int joints = 0;               ///< joints projected
+	int filteredJoints = 0;       ///< joints the filter left out (setFilter): not projected, not counted above
 	int bodies = 0;               ///< movable bodies in those islands
 	int rows = 0;                 ///< rows of K (bilateral rows plus one slot per joint with a limit)
 	int iterations = 0;           ///< Newton iterations, the most any island used
@@ -175,6 +177,20 @@ struct btQuaternionHingeStabilizerStats
 	int numericalIssues = 0;        ///< pivots that were not positive and were treated as inactive rows (none expected)
 	btScalar energyCorrection = 0;  ///< conserveEnergy: the largest relative velocity scaling |s − 1| applied
 	double timeMicroseconds = 0;    ///< wall time of the call
+};
+
+/// Chooses the joints a stabilizer projects (btQuaternionHingeStabilizer::setFilter), as btOverlapFilterCallback chooses
+/// broadphase pairs: to pay for the stabilizer only where a scene needs it (the hero's ragdoll, a crane's chain) and
+/// leave the rest of the world to the solver alone. A joint left out is not projected and costs one call of
+/// needsStabilization per step; to the joints projected it is like a constraint of another type (not seen as rows).
+/// Its bodies, if no projected joint holds them, are never moved, so a world whose joints are all left out steps
+/// exactly as without the stabilizer.
+struct QUATHINGE_STABILIZER_API btQuaternionHingeStabilizerFilter
+{
+	virtual ~btQuaternionHingeStabilizerFilter() {}
+	/// Called once per step for every enabled quaternion hinge with a movable body: true projects it. The answer may
+	/// change from step to step (the islands are then rebuilt).
+	virtual bool needsStabilization(const btQuaternionHingeConstraint& joint) const = 0;
 };
 
 ATTRIBUTE_ALIGNED16(class)
@@ -208,6 +224,11 @@ public:
 	void setSettings(const btQuaternionHingeStabilizerSettings& settings);
 	const btQuaternionHingeStabilizerSettings& getSettings() const { return m_settings; }
 
+	/// The joints to project: those `filter` says need it (not owned; it must outlive its use here). Null, the
+	/// default: every quaternion hinge of the world.
+	void setFilter(const btQuaternionHingeStabilizerFilter* filter) { m_filter = filter; }
+	const btQuaternionHingeStabilizerFilter* getFilter() const { return m_filter; }
+
 	/// Statistics of the last updateAction or stabilize call.
 	const btQuaternionHingeStabilizerStats& getLastStats() const { return m_stats; }
 
@@ -219,6 +240,7 @@ private:
 	struct Impl;
 	btQuaternionHingeStabilizerSettings m_settings;
 	btQuaternionHingeStabilizerStats m_stats;
+	const btQuaternionHingeStabilizerFilter* m_filter = nullptr;
 	Impl* m_impl;  // the islands and their scan (owned; the class is not copyable)
 };
 
