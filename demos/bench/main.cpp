@@ -263,6 +263,21 @@ struct StepScene
 	int warmup;  // steps before timing
 	int timed;   // steps timed (a fixed count, so every kind times the same stretch of simulated time)
 	bool everyKind = true;  // false: stock, quaternion and quaternion+stab only (the robots and the scenes at rest)
+	// > 0: the stabilizer projects only the joints of the scene's first `heroBodies` bodies (setFilter): one ragdoll
+	// of a crowd, what an app stabilizes when only its hero needs it
+	int heroBodies = 0;
+};
+
+// Keeps the joints that hold one of the hero's bodies.
+struct HeroFilter : btQuaternionHingeStabilizerFilter
+{
+	std::vector<const btRigidBody*> hero;
+	bool needsStabilization(const btQuaternionHingeConstraint& joint) const override
+	{
+		for (const btRigidBody* b : hero)
+			if (b == &joint.getRigidBodyA() || b == &joint.getRigidBodyB()) return true;
+		return false;
+	}
 };
 
 void benchStep(benchmark::State& state, const StepScene* spec, Kind kind)
@@ -279,6 +294,12 @@ void benchStep(benchmark::State& state, const StepScene* spec, Kind kind)
 		return;
 	}
 	Simulation& sim = *built;
+	HeroFilter heroFilter;
+	if (spec->heroBodies > 0 && sim.stabilizer())
+	{
+		heroFilter.hero.assign(sim.bodies.begin(), sim.bodies.begin() + spec->heroBodies);
+		sim.stabilizer()->setFilter(&heroFilter);
+	}
 	for (int i = 0; i < spec->warmup; ++i) sim.step(kStepDt, kIterations);
 	// the stabilizer's work per step: Newton iterations (the most any island used) and factorizations (all islands)
 	double stabIterations = 0, stabFactorizations = 0;
@@ -308,6 +329,7 @@ void benchStep(benchmark::State& state, const StepScene* spec, Kind kind)
 	{
 		state.counters["stab_newton"] = benchmark::Counter(stabIterations, benchmark::Counter::kAvgIterations);
 		state.counters["stab_factorizations"] = benchmark::Counter(stabFactorizations, benchmark::Counter::kAvgIterations);
+		state.counters["stab_joints"] = sim.stabilizer()->getLastStats().joints;  // projected (the hero's, if filtered)
 	}
 	// time per joint-step, as a rate: items/s = joint-steps per second
 	state.SetItemsProcessed(int64_t(state.iterations()) * int64_t(joints));
@@ -343,6 +365,13 @@ void registerAll()
 			{chainScene(100, 1), 30, 600},
 			{chainScene(1000, 1), 30, 100},
 			{ragdollCrowd(100), 60, 150},
+			// the same crowd with only the first ragdoll stabilized (setFilter)
+			{[] {
+				 SceneSpec crowd = ragdollCrowd(100);
+				 crowd.name += "_hero";
+				 return crowd;
+			 }(),
+			 60, 150, false, int(ragdollScene(1).bodies.size())},
 			{restScene(50, 10, false), 180, 300, false},
 			{restScene(50, 10, true), 180, 300, false},
 		};

@@ -215,6 +215,11 @@ const btQuaternionHingeStabilizer* Simulation::stabilizer() const
 	return dynamic_cast<const btQuaternionHingeStabilizer*>(m_action.get());
 }
 
+btQuaternionHingeStabilizer* Simulation::stabilizer()
+{
+	return dynamic_cast<btQuaternionHingeStabilizer*>(m_action.get());
+}
+
 Simulation::~Simulation()
 {
 	if (m_action) m_world->removeAction(m_action.get());

@@ -68,6 +68,7 @@ public:
 	btDiscreteDynamicsWorld& world() { return *m_world; }
 	/// The post-stabilizer (Kind::QuaternionStabilized), else null.
 	const btQuaternionHingeStabilizer* stabilizer() const;
+	btQuaternionHingeStabilizer* stabilizer();
 	std::vector<MeasuredJoint> joints;
 	std::vector<btRigidBody*> bodies;  // the scene's dynamic bodies, in scene order
 
