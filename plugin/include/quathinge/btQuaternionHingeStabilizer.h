@@ -12,7 +12,8 @@ projects the bodies held by btQuaternionHingeConstraints back onto their joints:
   (Q14) velocities: v ← v − M⁻¹ Jᵀ K⁻¹ J v with J at the projected positions (Cline & Pai, ICRA 2003).
 
 What it projects. Only btQuaternionHingeConstraints (btQuaternionHingeConstraint::upcast) that
-are enabled (a disabled or broken joint is skipped) and have at least one movable body. A movable body is dynamic and
+are enabled (a disabled or broken joint is skipped), have at least one movable body and, when a filter is set
+(setFilter), are kept by it. A movable body is dynamic and
 active: static and kinematic bodies (infinite mass) and sleeping bodies are never moved, and do not connect islands.
 The joints are grouped into islands (connected through shared movable bodies); each island is solved on its own.
 Rows: the joint's bilateral rows (3 linear + 2 quaternion, 2 when angular-only) and, for a joint with a limit, one
