@@ -16,7 +16,7 @@ namespace
 struct KeepId : btQuaternionHingeStabilizerFilter
 {
 	int id = 1;
-	bool needsStabilization(const btQuaternionHingeConstraint& joint) const override
+	bool needsStabilization(const btTypedConstraint& joint) const override
 	{
 		return joint.getUserConstraintId() == id;
 	}

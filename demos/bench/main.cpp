@@ -272,7 +272,7 @@ struct StepScene
 struct HeroFilter : btQuaternionHingeStabilizerFilter
 {
 	std::vector<const btRigidBody*> hero;
-	bool needsStabilization(const btQuaternionHingeConstraint& joint) const override
+	bool needsStabilization(const btTypedConstraint& joint) const override
 	{
 		for (const btRigidBody* b : hero)
 			if (b == &joint.getRigidBodyA() || b == &joint.getRigidBodyB()) return true;

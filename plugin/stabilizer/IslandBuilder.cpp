@@ -5,6 +5,8 @@
 #include "quathinge/btQuaternionHingeConstraint.h"
 #include "quathinge/btQuaternionHingeStabilizer.h"
 
+#include "PointRows.h"
+
 #include "BulletDynamics/Dynamics/btDynamicsWorld.h"
 #include "BulletDynamics/Dynamics/btRigidBody.h"
 
@@ -22,8 +24,8 @@ bool isMovable(const btRigidBody& body)
 		   (body.getInvMass() > 0 || !body.getInvInertiaDiagLocal().isZero());
 }
 
-int scanWorld(btDynamicsWorld& world, bool projectLimits, const btQuaternionHingeStabilizerFilter* filter,
-			  UpcastCache& upcasts, Array<SignatureEntry>& out)
+int scanWorld(btDynamicsWorld& world, bool projectLimits, bool projectPoints,
+			  const btQuaternionHingeStabilizerFilter* filter, UpcastCache& upcasts, Array<SignatureEntry>& out)
 {
 	out.clear();
 	int filtered = 0;
@@ -49,21 +51,29 @@ int scanWorld(btDynamicsWorld& world, bool projectLimits, const btQuaternionHing
 			upcasts.constraints[size_t(i)] = c;
 			upcasts.hinges[size_t(i)] = hinge;
 		}
-		if (!hinge || !c->isEnabled()) continue;
+		if (!c->isEnabled()) continue;
+		const bool point = !hinge && projectPoints && hasPointRows(*c);
+		if (!hinge && !point) continue;
 		SignatureEntry e;
 		e.joint = hinge;
-		e.body[0] = &hinge->getRigidBodyA();
-		e.body[1] = &hinge->getRigidBodyB();
+		e.point = point ? c : nullptr;
+		e.body[0] = &c->getRigidBodyA();
+		e.body[1] = &c->getRigidBodyB();
 		e.flags = 0;
 		if (isMovable(*e.body[0])) e.flags |= SignatureEntry::kMovableA;
 		if (isMovable(*e.body[1])) e.flags |= SignatureEntry::kMovableB;
 		if (!(e.flags & (SignatureEntry::kMovableA | SignatureEntry::kMovableB))) continue;
 		// a faulted joint (refused frame edit, bad body state) re-enabled with setEnabled(true) instead of
 		// clearFault(): the solver gets no rows from it, and the stabilizer must not project onto its refused frame
-		if (hinge->getFault() != BT_QHINGE_FAULT_NONE) continue;
-		if (filter && !filter->needsStabilization(*hinge))
+		if (hinge && hinge->getFault() != BT_QHINGE_FAULT_NONE) continue;
+		if (filter && !filter->needsStabilization(*c))
 		{
 			++filtered;
+			continue;
+		}
+		if (point)
+		{
+			out.push_back(e);
 			continue;
 		}
 		if (hinge->getAngularOnly()) e.flags |= SignatureEntry::kAngularOnly;
@@ -271,11 +281,13 @@ void buildIslands(const Array<SignatureEntry>& scan, bool forceSparse,
 		Island& island = *islands[islandOf[findRoot(parent, a >= 0 ? a : b)]];
 		JointSlot slot;
 		slot.joint = e.joint;
+		slot.point = e.point;
 		slot.rigid[0] = e.body[0];
 		slot.rigid[1] = e.body[1];
 		slot.body[0] = a >= 0 ? localBody[a] : -1;
 		slot.body[1] = b >= 0 ? localBody[b] : -1;
-		slot.bilateralRows = (e.flags & SignatureEntry::kAngularOnly) ? 2 : 5;
+		slot.bilateralRows = e.point ? 3 : (e.flags & SignatureEntry::kAngularOnly) ? 2 : 5;
+		slot.linearRows = (e.flags & SignatureEntry::kAngularOnly) ? 0 : 3;
 		slot.limitSlot = (e.flags & SignatureEntry::kLimitSlot) != 0;
 		slot.rows = slot.bilateralRows + (slot.limitSlot ? 1 : 0);
 		slot.angleReference = slot.angle = 0;

@@ -1,5 +1,6 @@
 // An island at rest gets the last step's projection back: IslandRestCache.h.
 #include "IslandRestCache.h"
+#include "PointRows.h"
 
 #include "quathinge/btQuaternionHingeConstraint.h"
 
@@ -73,6 +74,15 @@ void gatherInputs(const Island& island, btScalar timeStep, Array<btScalar>& out)
 				g.add(js.rigid[s]->getLinearVelocity());
 				g.add(js.rigid[s]->getAngularVelocity());
 			}
+		if (js.point)  // a point constraint: its pivots, the rest of the joint's share zero
+		{
+			btVector3 inA, inB;
+			pointPivots(*js.point, inA, inB);
+			g.add(inA);
+			g.add(inB);
+			for (size_t k = 6; k < kPerJoint; ++k) g.add(btScalar(0));
+			continue;
+		}
 		const btQuaternionHingeSettings& settings = js.joint->getSettings();
 		g.add(settings.frameInA);
 		g.add(settings.frameInB);

@@ -4,6 +4,7 @@
 #ifndef QUATHINGE_STABILIZER_ISLAND_ROWS_H
 #define QUATHINGE_STABILIZER_ISLAND_ROWS_H
 
+#include "PointRows.h"
 #include "StabilizerIsland.h"
 
 #include "quathinge/btQuaternionHingeConstraint.h"
@@ -55,9 +56,10 @@ PositionResidual evaluatePositions(BlockIsland<R>& island, btScalar tolerance)
 		const btTransform& tB = js.rigid[1]->getCenterOfMassTransform();
 		// A joint with a limit slot also needs its angle row: both from one evaluation of the joint frames.
 		btVector3 g;
-		const int rows = js.limitSlot ? js.joint->computePositionRows(tA, tB, c, jac, js.angleReference, js.angle, g)
-									  : js.joint->computePositionRows(tA, tB, c, jac);
-		const int linearRows = rows - 2;
+		const int rows = js.point		? pointPositionRows(*js.point, tA, tB, c, jac)
+						 : js.limitSlot ? js.joint->computePositionRows(tA, tB, c, jac, js.angleReference, js.angle, g)
+										: js.joint->computePositionRows(tA, tB, c, jac);
+		const int linearRows = js.linearRows;
 		btAssert(hasPointStructure(jac, rows, linearRows));
 		btScalar linear = 0, angular = 0;
 		for (int r = 0; r < rows; ++r)
@@ -156,7 +158,7 @@ VelocityResidual evaluateVelocities(BlockIsland<R>& island, bool decideLimits, b
 		}
 		jb.jv.noalias() = jb.jacobian * v;
 		const btScalar floor = 4 * SIMD_EPSILON * btMax(btScalar(1), speed);
-		const int linearRows = js.bilateralRows - 2;
+		const int linearRows = js.linearRows;
 		for (int r = 0; r < js.rows; ++r)
 		{
 			const btScalar value = btFabs(btScalar(jb.jv[r]));

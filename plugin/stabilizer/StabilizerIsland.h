@@ -48,12 +48,14 @@ struct SignatureEntry
 		kAngularOnly = 4,
 		kLimitSlot = 8
 	};
-	btQuaternionHingeConstraint* joint;
+	btQuaternionHingeConstraint* joint;  // a quaternion hinge, or null for a point constraint
+	btTypedConstraint* point;            // a point constraint (projectPointConstraints: PointRows.h), or null
 	btRigidBody* body[2];
 	unsigned flags;
 	bool operator==(const SignatureEntry& o) const
 	{
-		return joint == o.joint && body[0] == o.body[0] && body[1] == o.body[1] && flags == o.flags;
+		return joint == o.joint && point == o.point && body[0] == o.body[0] && body[1] == o.body[1] &&
+			   flags == o.flags;
 	}
 };
 
@@ -67,10 +69,11 @@ struct UpcastCache
 	Array<btQuaternionHingeConstraint*> hinges;
 };
 
-/// Appends the world's enabled quaternion hinges with a movable body that `filter` (if any) keeps, in constraint
-/// order, to out (cleared first); returns how many the filter left out.
-int scanWorld(btDynamicsWorld& world, bool projectLimits, const btQuaternionHingeStabilizerFilter* filter,
-			  UpcastCache& upcasts, Array<SignatureEntry>& out);
+/// Appends the world's enabled quaternion hinges (and, with projectPoints, its point constraints: PointRows.h) with a
+/// movable body that `filter` (if any) keeps, in constraint order, to out (cleared first); returns how many the filter
+/// left out.
+int scanWorld(btDynamicsWorld& world, bool projectLimits, bool projectPoints,
+			  const btQuaternionHingeStabilizerFilter* filter, UpcastCache& upcasts, Array<SignatureEntry>& out);
 
 struct IslandBody
 {
@@ -89,10 +92,12 @@ using JointJacobian = Eigen::Matrix<double, BlockShape<R>::kStorageRows, 12>;
 
 struct JointSlot
 {
-	btQuaternionHingeConstraint* joint;
+	btQuaternionHingeConstraint* joint;  // null for a point constraint
+	btTypedConstraint* point;            // a point constraint (PointRows.h), else null
 	btRigidBody* rigid[2];  // A, B
 	int body[2];            // island body index of A, B; −1 for a fixed body
-	int bilateralRows;      // 5, or 2 when angular-only
+	int bilateralRows;      // 5, 2 when angular-only, 3 for a point constraint
+	int linearRows;         // of which the point rows (first): 3, or 0 when angular-only
 	bool limitSlot;         // row bilateralRows is the limit row
 	int rows;               // bilateralRows + limitSlot
 

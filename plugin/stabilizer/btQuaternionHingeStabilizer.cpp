@@ -85,7 +85,8 @@ void btQuaternionHingeStabilizer::setSettings(const btQuaternionHingeStabilizerS
 {
 	if (!checkSettings("setSettings", settings)) return;
 	// projectLimits and solver change the islands' structure.
-	if (settings.projectLimits != m_settings.projectLimits || settings.solver != m_settings.solver)
+	if (settings.projectLimits != m_settings.projectLimits || settings.solver != m_settings.solver ||
+		settings.projectPointConstraints != m_settings.projectPointConstraints)
 		invalidateStructure();
 	// a kept projection was made with the old settings
 	for (const auto& island : m_impl->islands) forgetProjection(*island);
@@ -119,7 +120,8 @@ const btQuaternionHingeStabilizerStats& btQuaternionHingeStabilizer::stabilize(b
 	m_stats = btQuaternionHingeStabilizerStats();
 
 	Impl& impl = *m_impl;
-	m_stats.filteredJoints = scanWorld(*world, m_settings.projectLimits, m_filter, impl.upcasts, impl.scan);
+	m_stats.filteredJoints = scanWorld(*world, m_settings.projectLimits, m_settings.projectPointConstraints, m_filter,
+									   impl.upcasts, impl.scan);
 	if (!impl.built || impl.scan.size() != impl.signature.size() ||
 		!std::equal(impl.scan.begin(), impl.scan.end(), impl.signature.begin()))
 	{

@@ -13,7 +13,8 @@ projects the bodies held by btQuaternionHingeConstraints back onto their joints:
 
 What it projects. Only btQuaternionHingeConstraints (btQuaternionHingeConstraint::upcast) that
 are enabled (a disabled or broken joint is skipped), have at least one movable body and, when a filter is set
-(setFilter), are kept by it. A movable body is dynamic and
+(setFilter), are kept by it; with projectPointConstraints, also the pivots of btPoint2PointConstraints and
+btConeTwistConstraints (three point rows each). A movable body is dynamic and
 active: static and kinematic bodies (infinite mass) and sleeping bodies are never moved, and do not connect islands.
 The joints are grouped into islands (connected through shared movable bodies); each island is solved on its own.
 Rows: the joint's bilateral rows (3 linear + 2 quaternion, 2 when angular-only) and, for a joint with a limit, one
@@ -22,7 +23,8 @@ row along the hinge axis while the multi-turn angle is past a stop: an inequalit
 joint the stabilizer reads getMultiTurnAngle(), which keeps the joint tracking its angle (as its limit needs anyway).
 Drives (motor, servo, spring) and friction are never projected: their row is along the hinge axis, which the
 bilateral rows leave free, so the projection does not undo a drive's work.
-Other constraint types and contacts are not seen as rows. A ragdoll lying on the ground can therefore be pushed into
+Other constraint types (and, unless projectPointConstraints is on, point constraints) and contacts are not seen as
+rows. A ragdoll lying on the ground can therefore be pushed into
 the ground, by at most the correction it receives (the position error the solver left, typically well below a
 millimetre); the contact solver pushes it out again in the next step. To keep that small, a body touching something
 outside its island (a contact at zero distance or deeper, read from the dispatcher's manifolds) takes a tenth of its
@@ -83,7 +85,7 @@ Eigen is a private dependency of this library: nothing here includes it.
 
 class btCollisionWorld;
 class btDynamicsWorld;
-class btQuaternionHingeConstraint;
+class btTypedConstraint;
 class btIDebugDraw;
 
 /// Which factorization solves an island's K.
@@ -122,6 +124,11 @@ struct btQuaternionHingeStabilizerSettings
 	bool projectVelocities = true;
 	/// Project violated limits (the limit row, as an inequality). Off: only the bilateral rows.
 	bool projectLimits = true;
+	/// Also project the pivots of Bullet's point constraints, btPoint2PointConstraint and btConeTwistConstraint (its
+	/// three point rows, unless angular-only; a cone twist's swing and twist limits are not projected), in the same
+	/// islands as the quaternion hinges: a ragdoll of hinges and cone twists then holds together at every joint. They
+	/// go through the filter as well. Off (the default): only quaternion hinges; other constraints are not seen.
+	bool projectPointConstraints = false;
 	/// The position correction (Q13) is the smallest move in a metric with every body's inertia multiplied by this
 	/// weight (its mass unchanged): above 1 it prefers moving a body along over turning it. A move enters a point row
 	/// linearly, a turn through R(Δθ)·r, whose second-order term is what makes Newton's step fall short on a long
@@ -158,7 +165,7 @@ struct btQuaternionHingeStabilizerStats
 	int positionsWithinTolerance = 0;   ///< islands projected whose joint error was already within tolerance: no Newton step
 	int velocitiesWithinTolerance = 0;  ///< islands projected whose J v was already within tolerance: no velocity solve
 	int sparseIslands = 0;        ///< of which solved by the general sparse LDLᵀ (closed loops, or forced)
-	int joints = 0;               ///< joints projected
+	int joints = 0;               ///< joints projected (point constraints included: projectPointConstraints)
 	int filteredJoints = 0;       ///< joints the filter left out (setFilter): not projected, not counted above
 	int bodies = 0;               ///< movable bodies in those islands
 	int rows = 0;                 ///< rows of K (bilateral rows plus one slot per joint with a limit)
@@ -189,9 +196,10 @@ struct btQuaternionHingeStabilizerStats
 struct QUATHINGE_STABILIZER_API btQuaternionHingeStabilizerFilter
 {
 	virtual ~btQuaternionHingeStabilizerFilter() {}
-	/// Called once per step for every enabled quaternion hinge with a movable body: true projects it. The answer may
-	/// change from step to step (the islands are then rebuilt).
-	virtual bool needsStabilization(const btQuaternionHingeConstraint& joint) const = 0;
+	/// Called once per step for every enabled quaternion hinge (and point constraint, with projectPointConstraints)
+	/// with a movable body: true projects it. The answer may change from step to step (the islands are then rebuilt).
+	/// btQuaternionHingeConstraint::upcast tells a quaternion hinge.
+	virtual bool needsStabilization(const btTypedConstraint& constraint) const = 0;
 };
 
 ATTRIBUTE_ALIGNED16(class)

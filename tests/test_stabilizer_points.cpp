@@ -1,0 +1,198 @@
+// projectPointConstraints: the stabilizer also projects the pivots of Bullet's btPoint2PointConstraint and
+// btConeTwistConstraint, so a body mixing them with quaternion hinges holds together at every joint; off (the
+// default) they are not seen.
+#ifdef QUATHINGE_HAVE_STABILIZER
+#include "support/StabilizerScene.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <vector>
+
+using namespace qh_test;
+
+namespace
+{
+const btScalar kLink = btScalar(0.5);  // m, link length
+
+// Largest pivot separation (m) over the scene's point constraints (their world pivots).
+double pointSeparation(const std::vector<btTypedConstraint*>& points)
+{
+	double worst = 0;
+	for (const btTypedConstraint* c : points)
+	{
+		btVector3 inA, inB;
+		if (c->getConstraintType() == POINT2POINT_CONSTRAINT_TYPE)
+		{
+			inA = static_cast<const btPoint2PointConstraint*>(c)->getPivotInA();
+			inB = static_cast<const btPoint2PointConstraint*>(c)->getPivotInB();
+		}
+		else
+		{
+			inA = static_cast<const btConeTwistConstraint*>(c)->getAFrame().getOrigin();
+			inB = static_cast<const btConeTwistConstraint*>(c)->getBFrame().getOrigin();
+		}
+		const btVector3 a = c->getRigidBodyA().getCenterOfMassTransform() * inA;
+		const btVector3 b = c->getRigidBodyB().getCenterOfMassTransform() * inB;
+		worst = std::max(worst, double((b - a).length()));
+	}
+	return worst;
+}
+
+// A 6-link chain released horizontally at 10 m, hung from the world by a quaternion hinge; its joints alternate:
+// hinge (z), point-to-point, hinge (y), cone twist, hinge (z), point-to-point. The last link is `lastMass` kg.
+struct MixedChain
+{
+	StabilizerScene scene;
+	std::vector<btTypedConstraint*> points;
+	explicit MixedChain(btScalar lastMass = 1)
+	{
+		std::vector<btRigidBody*> links;
+		for (int i = 0; i < 6; ++i)
+			links.push_back(scene.box(btVector3(kLink / 2, btScalar(0.05), btScalar(0.05)), i == 5 ? lastMass : 1,
+									  btVector3(kLink * (btScalar(i) + btScalar(0.5)), 10, 0)));
+		const btVector3 left(-kLink / 2, 0, 0), right(kLink / 2, 0, 0);
+		scene.hingeToWorld(*links[0], left, btVector3(0, 0, 1));
+		for (int i = 1; i < 6; ++i)
+		{
+			btRigidBody& a = *links[size_t(i - 1)];
+			btRigidBody& b = *links[size_t(i)];
+			if (i % 2 == 0)
+			{
+				const btVector3 axis = i % 4 == 0 ? btVector3(0, 0, 1) : btVector3(0, 1, 0);
+				scene.hinge(a, b, right, left, axis, axis);
+				continue;
+			}
+			btTypedConstraint* c;
+			if (i == 3)
+			{
+				btTransform fa = btTransform::getIdentity(), fb = btTransform::getIdentity();
+				fa.setOrigin(right);
+				fb.setOrigin(left);
+				auto* cone = new btConeTwistConstraint(a, b, fa, fb);
+				cone->setLimit(btScalar(0.8), btScalar(0.8), btScalar(0.5));
+				c = cone;
+			}
+			else
+				c = new btPoint2PointConstraint(a, b, right, left);
+			scene.addConstraint(c);
+			points.push_back(c);
+		}
+	}
+	// Steps 2 s; the largest hinge and point separations seen after any step (m).
+	void run(double& hingeWorst, double& pointWorst, int steps = 120)
+	{
+		hingeWorst = pointWorst = 0;
+		for (int i = 0; i < steps; ++i)
+		{
+			scene.world().stepSimulation(kTimeStep, 0);
+			double separation, misalignment;
+			scene.jointErrors(separation, misalignment);
+			hingeWorst = std::max(hingeWorst, separation);
+			pointWorst = std::max(pointWorst, pointSeparation(points));
+		}
+	}
+};
+}  // namespace
+
+TEST(StabilizerPoints, MixedChainHoldsAtEveryJointWithTheOptionAndOnlyAtItsHingesWithout)
+{
+	MixedChain on, off;
+	btQuaternionHingeStabilizerSettings settings;
+	settings.projectPointConstraints = true;
+	btQuaternionHingeStabilizer withPoints(settings), hingesOnly;
+	on.scene.addAction(&withPoints);
+	off.scene.addAction(&hingesOnly);
+	double onHinge, onPoint, offHinge, offPoint;
+	on.run(onHinge, onPoint);
+	off.run(offHinge, offPoint);
+	std::printf("[ figures  ] mixed chain, largest separation (m): option on hinges %.2e points %.2e; off hinges %.2e "
+				"points %.2e\n",
+				onHinge, onPoint, offHinge, offPoint);
+	EXPECT_EQ(withPoints.getLastStats().joints, 6);
+	EXPECT_EQ(withPoints.getLastStats().islands, 1);
+	EXPECT_EQ(hingesOnly.getLastStats().joints, 3);
+	EXPECT_EQ(hingesOnly.getLastStats().islands, 3);  // the point constraints no longer connect the hinges
+	EXPECT_LE(onHinge, kSeparationTolerance);
+	EXPECT_LE(onPoint, kSeparationTolerance);
+	EXPECT_LE(offHinge, kSeparationTolerance);
+	EXPECT_GT(offPoint, 100 * kSeparationTolerance);  // the solver alone leaves the point constraints apart
+	ASSERT_TRUE(on.scene.allFinite());
+}
+
+TEST(StabilizerPoints, HeavyLoadOnAMixedChainHolds)
+{
+	// 1:100 at the end: the projection's metric and its step control serve point rows as they serve a hinge's.
+	MixedChain chain(100);
+	btQuaternionHingeStabilizerSettings settings;
+	settings.projectPointConstraints = true;
+	btQuaternionHingeStabilizer stabilizer(settings);
+	chain.scene.addAction(&stabilizer);
+	double hinge, point;
+	chain.run(hinge, point);
+	std::printf("[ figures  ] mixed chain 1:100, largest separation (m): hinges %.2e points %.2e\n", hinge, point);
+	EXPECT_LE(hinge, kHeavySeparationTolerance);
+	EXPECT_LE(point, kHeavySeparationTolerance);
+	EXPECT_EQ(stabilizer.getLastStats().numericalIssues, 0);
+}
+
+TEST(StabilizerPoints, AngularOnlyConeTwistAndFilteredPointsAreLeftOut)
+{
+	MixedChain chain;
+	static_cast<btConeTwistConstraint*>(chain.points[1])->setAngularOnly(true);  // no pivot to hold
+	struct NoPointToPoint : btQuaternionHingeStabilizerFilter
+	{
+		bool needsStabilization(const btTypedConstraint& c) const override
+		{
+			return c.getConstraintType() != POINT2POINT_CONSTRAINT_TYPE;
+		}
+	} filter;
+	btQuaternionHingeStabilizerSettings settings;
+	settings.projectPointConstraints = true;
+	btQuaternionHingeStabilizer stabilizer(settings);
+	stabilizer.setFilter(&filter);
+	chain.scene.addAction(&stabilizer);
+	chain.scene.world().stepSimulation(kTimeStep, 0);
+	EXPECT_EQ(stabilizer.getLastStats().joints, 3);          // the three hinges
+	EXPECT_EQ(stabilizer.getLastStats().filteredJoints, 2);  // the two point-to-points
+	// switched off again through setSettings: only the hinges, nothing filtered
+	settings.projectPointConstraints = false;
+	stabilizer.setSettings(settings);
+	stabilizer.setFilter(nullptr);
+	chain.scene.world().stepSimulation(kTimeStep, 0);
+	EXPECT_TRUE(stabilizer.getLastStats().structureRebuilt);
+	EXPECT_EQ(stabilizer.getLastStats().joints, 3);
+	EXPECT_EQ(stabilizer.getLastStats().filteredJoints, 0);
+}
+
+TEST(StabilizerPoints, PointToPointChainAloneIsProjected)
+{
+	// No quaternion hinge at all: five point-to-point links hung from the world, held to tolerance.
+	StabilizerScene scene;
+	std::vector<btTypedConstraint*> points;
+	btRigidBody* previous = nullptr;
+	for (int i = 0; i < 5; ++i)
+	{
+		btRigidBody* link = scene.box(btVector3(kLink / 2, btScalar(0.05), btScalar(0.05)), 1,
+									  btVector3(kLink * (btScalar(i) + btScalar(0.5)), 10, 0));
+		btTypedConstraint* c = previous ? new btPoint2PointConstraint(*previous, *link, btVector3(kLink / 2, 0, 0),
+																	   btVector3(-kLink / 2, 0, 0))
+										: new btPoint2PointConstraint(*link, btVector3(-kLink / 2, 0, 0));
+		scene.addConstraint(c);
+		points.push_back(c);
+		previous = link;
+	}
+	btQuaternionHingeStabilizerSettings settings;
+	settings.projectPointConstraints = true;
+	btQuaternionHingeStabilizer stabilizer(settings);
+	scene.addAction(&stabilizer);
+	double worst = 0;
+	for (int i = 0; i < 120; ++i)
+	{
+		scene.world().stepSimulation(kTimeStep, 0);
+		worst = std::max(worst, pointSeparation(points));
+	}
+	EXPECT_EQ(stabilizer.getLastStats().joints, 5);
+	EXPECT_LE(worst, kSeparationTolerance);
+}
+#endif  // QUATHINGE_HAVE_STABILIZER
