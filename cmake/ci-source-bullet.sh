@@ -19,7 +19,7 @@ src=$(cd "$(dirname "$0")/.." && pwd)
 work=${1:-$(mktemp -d /tmp/quathinge-source-bullet.XXXXXX)}
 mkdir -p "$work"
 work=$(cd "$work" && pwd)
-tests='consumer_package|HingeAngle|QuaternionRows|Limits|Drives|BadInput|ParityWithStock|Serialization|Stabilizer'
+tests='consumer_package|HingeAngle|QuaternionRows|Limits|Drives|BadInput|ParityWithStock|StockApi|AccumulatedAngle|Serialization|Stabilizer'
 fail() { echo "ci-source-bullet: FAILED: $*" >&2; exit 1; }
 step() { echo; echo "=== ci-source-bullet: $* ($(date -u +%T))"; }
 as_root=()
