@@ -195,4 +195,57 @@ TEST(StabilizerPoints, PointToPointChainAloneIsProjected)
 	EXPECT_EQ(stabilizer.getLastStats().joints, 5);
 	EXPECT_LE(worst, kSeparationTolerance);
 }
+TEST(StabilizerPoints, HangingMixedChainAtRestIsReplayedAndAMovedPivotIsProjectedAgain)
+{
+	// Straight down from the world: hinge, point-to-point, hinge, point-to-point; at rest after a few steps, every
+	// step is a replay of the last projection (its inputs, the point constraints' pivots included, unchanged to the
+	// bit). A point-to-point's pivot moved by 1 mm, nothing else, is a changed input: projected again, and held.
+	StabilizerScene scene;
+	std::vector<btTypedConstraint*> points;
+	btRigidBody* previous = nullptr;
+	const btVector3 top(0, btScalar(0.25), 0), bottom(0, btScalar(-0.25), 0);
+	for (int i = 0; i < 4; ++i)
+	{
+		btRigidBody* link = scene.box(btVector3(btScalar(0.05), btScalar(0.25), btScalar(0.05)), 1,
+									  btVector3(0, btScalar(-0.25 - 0.5 * i), 0));
+		if (!previous)
+			scene.hingeToWorld(*link, top, btVector3(0, 0, 1));
+		else if (i % 2 == 0)
+			scene.hinge(*previous, *link, bottom, top, btVector3(0, 0, 1), btVector3(0, 0, 1));
+		else
+		{
+			btTypedConstraint* c = new btPoint2PointConstraint(*previous, *link, bottom, top);
+			scene.addConstraint(c);
+			points.push_back(c);
+		}
+		previous = link;
+	}
+	btQuaternionHingeStabilizerSettings settings;
+	settings.projectPointConstraints = true;
+	btQuaternionHingeStabilizer stabilizer(settings);
+	scene.addAction(&stabilizer);
+	for (int i = 0; i < 60; ++i) scene.world().stepSimulation(kTimeStep, 0, kTimeStep);
+	EXPECT_EQ(stabilizer.getLastStats().joints, 4);
+	EXPECT_EQ(stabilizer.getLastStats().restingIslands, 1);
+	EXPECT_EQ(stabilizer.getLastStats().factorizations, 0);
+	EXPECT_LE(pointSeparation(points), kSeparationTolerance);
+	// The pivot alone: the bodies put back as they were, the projection called directly (no solver step between).
+	std::vector<btTransform> poses;
+	for (int i = 0; i < scene.world().getNumCollisionObjects(); ++i)
+		poses.push_back(scene.world().getCollisionObjectArray()[i]->getWorldTransform());
+	auto putBack = [&] {
+		for (int i = 0; i < scene.world().getNumCollisionObjects(); ++i)
+			scene.world().getCollisionObjectArray()[i]->setWorldTransform(poses[size_t(i)]);
+	};
+	stabilizer.stabilize(&scene.world(), kTimeStep);  // keeps these inputs
+	putBack();
+	stabilizer.stabilize(&scene.world(), kTimeStep);
+	EXPECT_EQ(stabilizer.getLastStats().restingIslands, 1);  // the control: nothing changed
+	putBack();
+	static_cast<btPoint2PointConstraint*>(points[0])->setPivotB(top + btVector3(btScalar(1e-3), 0, 0));
+	stabilizer.stabilize(&scene.world(), kTimeStep);
+	EXPECT_EQ(stabilizer.getLastStats().restingIslands, 0);
+	EXPECT_GT(stabilizer.getLastStats().factorizations, 0);
+	EXPECT_LE(pointSeparation(points), kSeparationTolerance);
+}
 #endif  // QUATHINGE_HAVE_STABILIZER
