@@ -1,7 +1,9 @@
 // An island of quaternion hinges, as the stabilizer holds it between steps (docs/MATH.md Q13, Q14).
 //
 // Discovery: every enabled btQuaternionHingeConstraint of the world with at least one movable body (dynamic and
-// active; static, kinematic and sleeping bodies are fixed: infinite mass, never moved). The scan is summarized as a
+// active; static, kinematic and sleeping bodies are fixed: infinite mass, never moved), with projectPointConstraints
+// also every btPoint2PointConstraint and (not angular-only) btConeTwistConstraint (PointRows.h), less what the
+// user's filter leaves out (btQuaternionHingeStabilizer::setFilter). The scan is summarized as a
 // signature (joint, bodies, which are movable, row counts); while it equals the cached one the islands are reused
 // as they are, with their block pattern, joint numbering and symbolic analysis.
 // Islands: joints connected through shared movable bodies (union–find); fixed bodies do not connect.
@@ -9,7 +11,8 @@
 // non-parent bodies, then its joints to its parent, after all of its subtree. For an island without closed loops
 // this is a perfect elimination order of K (the later neighbours of each joint all share one body), so BlockLDLT
 // factorizes it without fill; with loops BlockLDLT::analyze refuses and the island uses SparseLDLT.
-// Rows of joint j: its bilateral rows (5, or 2 when angular-only) at [0, bilateral), then, for a joint with a limit
+// Rows of joint j: its bilateral rows (5, 2 when angular-only, 3 for a point constraint) at [0, bilateral), the point
+// rows first; then, for a joint with a limit
 // (and projectLimits), one limit slot that is a structural zero row while the limit is not violated.
 // Block size: an island in which some joint has a limit slot works in 6-row blocks, any other in 5-row blocks
 // (BlockMatrix.h; the assembly and factorization of K cost about (5/6)² as much); chosen when the island is built.
