@@ -4,8 +4,7 @@
 //                     q ← normalize(q + ½ Δθ ⊗ q), Δθ a world-frame rotation), repeated until ‖C‖ is at tolerance.
 //   (Q14) velocities: K λ = −J v at the projected positions,  v ← v + M⁻¹ Jᵀ λ, so that J v = 0.
 // J = ∂C/∂(v_A, ω_A, v_B, ω_B) from btQuaternionHingeConstraint::computePositionRows, or PointRows.h for a point
-// constraint (world frame): the same matrix
-// maps a small displacement (Δx, Δθ) to ΔC, which is what Newton needs.
+// constraint (world frame): the same matrix maps a small displacement (Δx, Δθ) to ΔC, which is what Newton needs.
 // Metric: Q13 uses M with every inertia multiplied by the rotation weight w (settings.rotationWeight, 30 by default):
 // a move Δx enters the point rows linearly, a turn Δθ through R(Δθ)·r, whose second-order term makes a step that
 // swings light links (the mass metric's cheapest first-order fix on a long or heavily loaded chain) fall short.
