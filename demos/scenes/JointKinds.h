@@ -88,6 +88,9 @@ struct Metrics
 	double rmsSeparation = 0;            ///< m
 	double maxMisalignmentDeg = 0;       ///< degrees
 	double rmsMisalignmentDeg = 0;       ///< degrees
+	/// m, the prismatic joints' (SceneSpec::sliders: not compared, the same constraint in every kind) largest
+	/// distance off their slide line over joints and steps; −1 when the scene has none
+	double maxSliderSeparation = -1;
 	double energyDrift = -1;             ///< max |E − E₀| / energy scale; −1 when the scene is not conservative
 	double trajectoryError = -1;         ///< m (fine-step reference) or relative (period); −1 when none
 	std::string reference;               ///< which reference trajectoryError uses

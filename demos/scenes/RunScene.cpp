@@ -69,6 +69,15 @@ JointError measureJointError(const MeasuredJoint& j)
 	return {double((pb - pa).length()), std::atan2(double(za.cross(zb).length()), double(za.dot(zb))) * 180.0 / M_PI};
 }
 
+double measureSliderSeparation(const MeasuredJoint& j)
+{
+	const btVector3 pa = j.a->getCenterOfMassTransform() * j.frameA.getOrigin();
+	const btVector3 pb = j.b->getCenterOfMassTransform() * j.frameB.getOrigin();
+	const btVector3 xa = j.a->getCenterOfMassTransform().getBasis() * j.frameA.getBasis().getColumn(0);
+	const btVector3 d = pb - pa;
+	return double((d - d.dot(xa) * xa).length());
+}
+
 Metrics runScene(const SceneSpec& scene, Kind kind, const RunSettings& settings)
 {
 	Metrics m;
@@ -205,6 +214,8 @@ Metrics runScene(const SceneSpec& scene, Kind kind, const RunSettings& settings)
 			stepMis = std::max(stepMis, mis);
 		}
 		m.maxSeparation = std::max(m.maxSeparation, stepSep);
+		for (const MeasuredJoint& j : sim->sliders)
+			m.maxSliderSeparation = std::max(m.maxSliderSeparation, measureSliderSeparation(j));
 		if (stepMis < 1.0 && m.recoveryTime < 0) m.recoveryTime = t;
 		if (stepMis >= 1.0) m.recoveryTime = -1;
 		m.maxMisalignmentDeg = std::max(m.maxMisalignmentDeg, stepMis);

@@ -59,7 +59,8 @@ std::vector<std::string> sceneNames()
 			"heavy1000",     "heavy10000",    "double_pendulum", "rotor100",       "rotor1000", "flipped90",
 			"flipped179",    "flipped180",    "limit_hit",       "limit_across_pi", "limit_wide", "motor_lift",
 			"four_bar",      "ragdoll",       "spider",          "kuka_iiwa",      "pendulum5", "humanoid",
-			"base_2",        "quadruped",     "two_joint_robot", "inertia_ratio", "rest500", "rest500_asleep"};
+			"base_2",        "quadruped",     "two_joint_robot", "minitaur",      "r2d2",     "panda",
+			"inertia_ratio", "rest500",       "rest500_asleep"};
 }
 
 std::string defaultModelsDir()
@@ -118,6 +119,10 @@ SceneSpec makeScene(const std::string& name, unsigned seed, const std::string& m
 	if (name == "base_2") return urdfScene(name, modelsDir + "/Base_2.urdf");
 	if (name == "quadruped") return urdfScene(name, modelsDir + "/quadruped.urdf");
 	if (name == "two_joint_robot") return urdfScene(name, modelsDir + "/TwoJointRobot_w_fixedJoints.urdf");
+	if (name == "minitaur") return urdfScene(name, modelsDir + "/minitaur.urdf");
+	// with prismatic joints (SceneSpec::sliders): r2d2's gripper extension, the panda's fingers
+	if (name == "r2d2") return urdfScene(name, modelsDir + "/r2d2/r2d2.urdf");
+	if (name == "panda") return urdfScene(name, modelsDir + "/franka_panda/panda.urdf");
 	if (name.size() > 5 && name.compare(name.size() - 5, 5, ".urdf") == 0) return urdfScene(name, name);
 	throw std::invalid_argument("makeScene: name: unknown scene '" + name + "'");
 }

@@ -78,6 +78,20 @@ struct JointSpec
 	btScalar target = 0, maxSpeed = SIMD_INFINITY, maxEffort = 0;
 };
 
+/// A prismatic joint (a URDF robot's gripper fingers): the child slides along `axis` relative to the parent, every
+/// other degree of freedom locked. It is not a hinge, so it is not one of the compared joints: every
+/// maximal-coordinate kind builds it the same way (btGeneric6DofSpring2Constraint, as pybullet's maximal-coordinate
+/// URDF import does), and the metrics measure it on its own (Metrics::maxSliderSeparation).
+struct SliderSpec
+{
+	int parent = -1;          ///< body index, −1 for the world
+	int child = 0;            ///< body index
+	btVector3 pivot;          ///< world, at t = 0: the joint frame's origin (slide 0)
+	btVector3 axis;           ///< world unit vector, at t = 0
+	bool hasLimit = false;
+	btScalar lower = 0, upper = 0;  ///< m along axis from the start
+};
+
 /// How a scene's trajectory error is judged.
 enum class Reference
 {
@@ -92,6 +106,7 @@ struct SceneSpec
 	std::string description;
 	std::vector<BodySpec> bodies;
 	std::vector<JointSpec> joints;
+	std::vector<SliderSpec> sliders;  ///< prismatic joints (URDF robots); not compared, built alike by every kind
 	btVector3 gravity = btVector3(0, -10, 0);
 	double duration = 5;          ///< s simulated by default
 	bool conservative = false;    ///< energy should be conserved (no drives, limits, contacts or damping)

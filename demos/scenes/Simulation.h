@@ -43,6 +43,9 @@ struct JointError
 	double misalignmentDeg;
 };
 JointError measureJointError(const MeasuredJoint& j);
+/// A slider's (SceneSpec::sliders) error now: the distance (m) of the child's joint origin from the parent's slide
+/// line (the frames' x axis), the direction a prismatic joint leaves free excluded.
+double measureSliderSeparation(const MeasuredJoint& j);
 
 /// Updates j.theta from the joint's frames (Simulation.cpp): at the start, and every step for runScene's limit figures.
 void trackTheta(MeasuredJoint& j);
@@ -70,11 +73,14 @@ public:
 	const btQuaternionHingeStabilizer* stabilizer() const;
 	btQuaternionHingeStabilizer* stabilizer();
 	std::vector<MeasuredJoint> joints;
+	/// The scene's prismatic joints (SceneSpec::sliders), frames with x along the slide; not among the compared joints.
+	std::vector<MeasuredJoint> sliders;
 	std::vector<btRigidBody*> bodies;  // the scene's dynamic bodies, in scene order
 
 private:
 	void loadBulletFile(const SceneSpec& scene);
 	void buildMultiBodies(const SceneSpec& scene, btRigidBody* anchor);
+	void addSlider(const SliderSpec& s, btRigidBody& a, btRigidBody& b);
 	void syncProxies();
 	Kind m_kind;
 	const JointFactory* m_factory;  // null for the multibody kind

@@ -118,8 +118,8 @@ Preprocessed preprocess(const std::string& text)
 	{
 		const std::string name = joint->Attribute("name") ? joint->Attribute("name") : "";
 		const std::string type = joint->Attribute("type") ? joint->Attribute("type") : "";
-		if (type == "prismatic" || type == "planar" || type == "floating" || type == "spherical")
-			throw Refusal("joint '" + name + "': type " + type + " cannot be represented (hinges only)");
+		if (type == "planar" || type == "floating" || type == "spherical")
+			throw Refusal("joint '" + name + "': type " + type + " cannot be represented (hinges and sliders only)");
 		if (tinyxml2::XMLElement* limit = joint->FirstChildElement("limit"))
 		{
 			out.limits[name] = {attributeOr(*limit, "lower", 0), attributeOr(*limit, "upper", -1)};

@@ -9,13 +9,15 @@
 //   moment), said in the description;
 // - the root link is the world (the robot hangs from its base); its collision shapes are drawn with the world;
 // - every revolute or continuous joint a hinge; revolute with pybullet's limits: lower and upper default to 0 and −1,
-//   and lower > upper is no limit (continuous), as URDF2Bullet; a fixed joint a hinge locked at 0;
+//   and lower > upper is no limit (continuous), as URDF2Bullet; a fixed joint a hinge locked at 0; a prismatic joint
+//   a slider (SceneSpec::sliders: the same 6-dof constraint for every kind, as pybullet's maximal-coordinate import),
+//   its limits in metres read the same way;
 // - every <collision> a piece of the body's compound shape: box, sphere, cylinder, capsule (pybullet's extension:
 //   the cylinder part `length` long, along z; pybullet makes a cylinder a 32-sided hull unless asked for the implicit
 //   cylinder, which this is), STL meshes (their vertices' convex hull) and OBJ meshes (a convex hull per group of
 //   faces), as pybullet reads meshes for a moving link. The scene has no ground and no contacts: the shapes are
 //   drawn. A link without <collision> is drawn as the box of its inertia.
-// Anything else is refused, never dropped: a prismatic, planar, floating or spherical joint, a zero axis, a mesh that
+// Anything else is refused, never dropped: a planar, floating or spherical joint, a zero axis, a mesh that
 // is missing or neither STL nor OBJ (Collada), a file urdfdom cannot parse or reports an error in (with urdfdom's own
 // message) make the scene unavailable with the file, the part and the reason. Not modelled (as pybullet's
 // maximal-coordinate import): joint <dynamics> damping and friction, effort and velocity limits, <mimic>; the
@@ -186,8 +188,9 @@ void buildScene(SceneSpec& s, const urdf::ModelInterface& model, const Preproces
 	{
 		const urdf::Joint& joint = *entry.second;
 		const std::string who = "joint '" + joint.name + "'";
-		if (joint.type != urdf::Joint::REVOLUTE && joint.type != urdf::Joint::CONTINUOUS && joint.type != urdf::Joint::FIXED)
-			throw Refusal(who + ": a joint type that no hinge can represent");
+		if (joint.type != urdf::Joint::REVOLUTE && joint.type != urdf::Joint::CONTINUOUS &&
+			joint.type != urdf::Joint::FIXED && joint.type != urdf::Joint::PRISMATIC)
+			throw Refusal(who + ": a joint type that no hinge or slider can represent");
 		if (!bodyOf.count(joint.child_link_name)) throw Refusal(who + ": its child link is not in the tree");
 		JointSpec j;
 		j.parent = bodyOf.count(joint.parent_link_name) ? bodyOf[joint.parent_link_name] : -1;
@@ -203,10 +206,10 @@ void buildScene(SceneSpec& s, const urdf::ModelInterface& model, const Preproces
 		{
 			j.hasLimit = true;  // locked
 		}
-		else if (joint.type == urdf::Joint::REVOLUTE)
+		else if (joint.type != urdf::Joint::CONTINUOUS)  // revolute (rad) or prismatic (m)
 		{
 			const auto limit = pre.limits.find(joint.name);
-			if (limit == pre.limits.end()) throw Refusal(who + ": revolute without <limit>");
+			if (limit == pre.limits.end()) throw Refusal(who + ": revolute or prismatic without <limit>");
 			j.hasLimit = limit->second.first <= limit->second.second;  // lower > upper: no limit, as URDF2Bullet
 			if (j.hasLimit)
 			{
@@ -216,9 +219,13 @@ void buildScene(SceneSpec& s, const urdf::ModelInterface& model, const Preproces
 		}
 		if (joint.dynamics && (joint.dynamics->damping != 0 || joint.dynamics->friction != 0)) ++damped;
 		if (joint.mimic) ++mimics;
-		s.joints.push_back(j);
+		if (joint.type == urdf::Joint::PRISMATIC)
+			s.sliders.push_back(SliderSpec{j.parent, j.child, j.pivot, j.axis, j.hasLimit, j.lower, j.upper});
+		else
+			s.joints.push_back(j);
 	}
 	if (s.joints.empty()) throw Refusal("no revolute, continuous or fixed joint");
+	if (!s.sliders.empty()) s.description += "; " + std::to_string(s.sliders.size()) + " prismatic joints as sliders";
 	if (standIns > 0)
 	{
 		std::ostringstream say;
@@ -278,12 +285,14 @@ SceneSpec urdfScene(const std::string& name, const std::string& path)
 	{
 		s.bodies.clear();
 		s.joints.clear();
+		s.sliders.clear();
 		s.worldParts.clear();
 		s.unavailable = "URDF " + path + ": " + e.what();
 		return s;
 	}
 	// no limits, no drives, no contacts: energy is conserved (a stop can take energy out)
-	s.conservative = std::none_of(s.joints.begin(), s.joints.end(), [](const JointSpec& j) { return j.hasLimit; });
+	s.conservative = std::none_of(s.joints.begin(), s.joints.end(), [](const JointSpec& j) { return j.hasLimit; }) &&
+					 std::none_of(s.sliders.begin(), s.sliders.end(), [](const SliderSpec& j) { return j.hasLimit; });
 	return s;
 }
 #else
