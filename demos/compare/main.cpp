@@ -36,12 +36,12 @@ void writeCsv(const std::string& path, const std::vector<Metrics>& results)
 	out << "scene,kind,dt,iterations,skipped,max_separation_m,rms_separation_m,max_misalignment_deg,"
 		   "rms_misalignment_deg,recovery_time_s,limit_violation_rad,final_theta_rad,energy_drift,trajectory_error,reference,blew_up,"
 		   "blow_up_time_s,max_energy_gain,wall_per_sim_s,cpu_per_sim_s,"
-		   "rows_per_step,steps\n";
+		   "rows_per_step,steps,slider_separation_m\n";
 	for (const Metrics& m : results)
 		out << m.scene << ',' << m.kind << ',' << m.dt << ',' << m.iterations << ",\"" << m.skipped << "\","
 			<< m.maxSeparation << ',' << m.rmsSeparation << ',' << m.maxMisalignmentDeg << ',' << m.rmsMisalignmentDeg
 			<< ',' << m.recoveryTime << ',' << m.limitViolation << ',' << m.finalTheta << ',' << m.energyDrift << ',' << m.trajectoryError << ",\"" << m.reference << "\"," << m.blewUp << ','
-			<< m.blowUpTime << ',' << m.maxEnergyGain << ',' << m.wallPerSimSecond << ',' << m.cpuPerSimSecond << ',' << m.rowsPerStep << ',' << m.steps << '\n';
+			<< m.blowUpTime << ',' << m.maxEnergyGain << ',' << m.wallPerSimSecond << ',' << m.cpuPerSimSecond << ',' << m.rowsPerStep << ',' << m.steps << ',' << m.maxSliderSeparation << '\n';
 }
 
 void writeJson(const std::string& path, const std::vector<Metrics>& results)
@@ -70,7 +70,8 @@ void writeJson(const std::string& path, const std::vector<Metrics>& results)
 							{"wall_per_sim_s", m.wallPerSimSecond},
 							{"cpu_per_sim_s", m.cpuPerSimSecond},
 							{"rows_per_step", m.rowsPerStep},
-							{"steps", m.steps}};
+							{"steps", m.steps},
+							{"slider_separation_m", m.maxSliderSeparation}};
 		if (!m.series.empty())
 		{
 			nlohmann::json series = nlohmann::json::array();
@@ -234,6 +235,16 @@ int main(int argc, char** argv)
 								 m.blewUp ? fmt::format("{:.2f}", m.blowUpTime) : "-", 1e3 * m.wallPerSimSecond,
 								 1e3 * m.cpuPerSimSecond, m.rowsPerStep);
 	}
+	bool sliders = false;
+	for (const Metrics& m : results)
+		if (m.skipped.empty() && m.maxSliderSeparation >= 0)
+		{
+			if (!sliders)
+				std::cout << "\nprismatic joints (not compared: the same 6-dof constraint in every kind), largest distance off "
+							 "their slide line:\n";
+			sliders = true;
+			std::cout << fmt::format("  {:<16} {:<16} {} m\n", m.scene, m.kind, figure(m.maxSliderSeparation));
+		}
 	std::cout << "\ntrajectory reference per scene:\n";
 	for (size_t i = 0; i < results.size(); ++i)
 		if (results[i].skipped.empty() && (i == 0 || results[i].scene != results[i - 1].scene))
