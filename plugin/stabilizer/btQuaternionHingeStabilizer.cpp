@@ -4,6 +4,7 @@
 #include "quathinge/btQuaternionHingeStabilizer.h"
 #include "quathinge/btQuaternionHingeErrors.h"
 
+#include "AttachedBodies.h"
 #include "IslandRestCache.h"
 #include "StabilizerIsland.h"
 
@@ -29,7 +30,8 @@ struct btQuaternionHingeStabilizer::Impl
 	Array<SignatureEntry> scan;       // this step's scan (kept to avoid allocating)
 	UpcastCache upcasts;              // which of the world's constraints are quaternion hinges
 	// every island body by its collision object, with its island (built with the islands)
-	std::unordered_map<const btCollisionObject*, std::pair<const Island*, IslandBody*>> bodyOf;
+	IslandBodyMap bodyOf;
+	Array<AttachedBody> attached;     // this step's attached bodies (settings.moveAttachedBodies)
 	Array<std::unique_ptr<Island>> islands;
 	bool built = false;
 };
@@ -170,6 +172,10 @@ const btQuaternionHingeStabilizerStats& btQuaternionHingeStabilizer::stabilize(b
 			if (islandB && islandB != islandA) b->second.second->contactScale = kContactWeight;
 		}
 	}
+	impl.attached.clear();  // keeps its capacity: no allocation the next step
+	if (m_settings.moveAttachedBodies)
+		for (const auto& island : impl.islands)
+			for (IslandBody& b : island->bodies) findAttachedBodies(*b.rigid, impl.bodyOf, impl.attached);
 	for (const auto& islandPtr : impl.islands)
 	{
 		Island& island = *islandPtr;
@@ -206,6 +212,7 @@ const btQuaternionHingeStabilizerStats& btQuaternionHingeStabilizer::stabilize(b
 		m_stats.velocityResidualBefore = std::max(m_stats.velocityResidualBefore, r.velocityResidualBefore);
 		m_stats.velocityResidualAfter = std::max(m_stats.velocityResidualAfter, r.velocityResidualAfter);
 	}
+	m_stats.attachedBodiesMoved = carryAttachedBodies(impl.attached);
 	m_stats.timeMicroseconds =
 		std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - start).count();
 	return m_stats;
