@@ -240,8 +240,8 @@ int main(int argc, char** argv)
 		if (m.skipped.empty() && m.maxSliderSeparation >= 0)
 		{
 			if (!sliders)
-				std::cout << "\nprismatic joints (not compared: the same 6-dof constraint in every kind), largest distance off "
-							 "their slide line:\n";
+				std::cout << "\nprismatic joints (not compared: the same 6-dof constraint in every maximal-coordinate kind, a "
+							 "prismatic link in multibody), largest distance off their slide line:\n";
 			sliders = true;
 			std::cout << fmt::format("  {:<16} {:<16} {} m\n", m.scene, m.kind, figure(m.maxSliderSeparation));
 		}

@@ -88,7 +88,7 @@ struct Metrics
 	double rmsSeparation = 0;            ///< m
 	double maxMisalignmentDeg = 0;       ///< degrees
 	double rmsMisalignmentDeg = 0;       ///< degrees
-	/// m, the prismatic joints' (SceneSpec::sliders: not compared, the same constraint in every kind) largest
+	/// m, the prismatic joints' (SceneSpec::sliders: not compared, built alike by the maximal-coordinate kinds) largest
 	/// distance off their slide line over joints and steps; −1 when the scene has none
 	double maxSliderSeparation = -1;
 	double energyDrift = -1;             ///< max |E − E₀| / energy scale; −1 when the scene is not conservative

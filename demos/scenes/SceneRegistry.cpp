@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <map>
 #include <stdexcept>
+#include <utility>
 
 namespace quathinge
 {
@@ -12,19 +13,23 @@ namespace scenes
 {
 bool isTree(const SceneSpec& scene)
 {
+	// the edges: hinges and sliders alike
+	std::vector<std::pair<int, int>> edges;  // parent, child
+	for (const JointSpec& j : scene.joints) edges.emplace_back(j.parent, j.child);
+	for (const SliderSpec& j : scene.sliders) edges.emplace_back(j.parent, j.child);
 	std::vector<int> parents(scene.bodies.size(), 0);
-	for (const JointSpec& j : scene.joints)
-		if (++parents[size_t(j.child)] > 1) return false;
+	for (const auto& e : edges)
+		if (++parents[size_t(e.second)] > 1) return false;
 	// one parent each; a loop would need a body to be its own ancestor
-	for (size_t start = 0; start < scene.joints.size(); ++start)
+	for (const auto& start : edges)
 	{
-		int body = scene.joints[start].parent;
-		for (size_t hops = 0; body >= 0 && hops <= scene.joints.size(); ++hops)
+		int body = start.first;
+		for (size_t hops = 0; body >= 0 && hops <= edges.size(); ++hops)
 		{
 			int next = -1;
-			for (const JointSpec& j : scene.joints)
-				if (j.child == body) next = j.parent;
-			if (next == scene.joints[start].child) return false;
+			for (const auto& e : edges)
+				if (e.second == body) next = e.first;
+			if (next == start.second) return false;
 			body = next;
 		}
 	}

@@ -81,7 +81,8 @@ struct JointSpec
 /// A prismatic joint (a URDF robot's gripper fingers): the child slides along `axis` relative to the parent, every
 /// other degree of freedom locked. It is not a hinge, so it is not one of the compared joints: every
 /// maximal-coordinate kind builds it the same way (btGeneric6DofSpring2Constraint, as pybullet's maximal-coordinate
-/// URDF import does), and the metrics measure it on its own (Metrics::maxSliderSeparation).
+/// URDF import does), the multibody kind as a prismatic link (as pybullet's default import), and the metrics measure
+/// it on its own (Metrics::maxSliderSeparation).
 struct SliderSpec
 {
 	int parent = -1;          ///< body index, −1 for the world
@@ -106,7 +107,7 @@ struct SceneSpec
 	std::string description;
 	std::vector<BodySpec> bodies;
 	std::vector<JointSpec> joints;
-	std::vector<SliderSpec> sliders;  ///< prismatic joints (URDF robots); not compared, built alike by every kind
+	std::vector<SliderSpec> sliders;  ///< prismatic joints (URDF robots); not compared (SliderSpec)
 	btVector3 gravity = btVector3(0, -10, 0);
 	double duration = 5;          ///< s simulated by default
 	bool conservative = false;    ///< energy should be conserved (no drives, limits, contacts or damping)

@@ -101,6 +101,7 @@ btTransform childFrame(const JointSpec& j)
 // A prismatic joint as pybullet's maximal-coordinate URDF import builds one, and the same for every kind:
 // btGeneric6DofSpring2Constraint whose frames' x axis is the slide, x free or limited to [lower, upper], the other
 // two linear and the three angular axes locked.
+// The multibody kind builds it as a prismatic link (SimulationMultiBody.cpp): only measured here.
 void Simulation::addSlider(const SliderSpec& s, btRigidBody& a, btRigidBody& b)
 {
 	btVector3 y, z;
@@ -109,6 +110,8 @@ void Simulation::addSlider(const SliderSpec& s, btRigidBody& a, btRigidBody& b)
 							s.pivot);
 	const btTransform fa = a.getCenterOfMassTransform().inverse() * frame;
 	const btTransform fb = b.getCenterOfMassTransform().inverse() * frame;
+	sliders.push_back(MeasuredJoint{&a, &b, fa, fb});
+	if (m_kind == Kind::MultiBody) return;
 	auto* d = new btGeneric6DofSpring2Constraint(a, b, fa, fb, RO_XYZ);
 	d->setLinearLowerLimit(btVector3(s.hasLimit ? s.lower : btScalar(1), 0, 0));  // x free: lower > upper
 	d->setLinearUpperLimit(btVector3(s.hasLimit ? s.upper : btScalar(-1), 0, 0));
@@ -116,7 +119,6 @@ void Simulation::addSlider(const SliderSpec& s, btRigidBody& a, btRigidBody& b)
 	d->setAngularUpperLimit(btVector3(0, 0, 0));
 	m_ownedJoints.emplace_back(d);
 	m_world->addConstraint(d, true);
-	sliders.push_back(MeasuredJoint{&a, &b, fa, fb});
 }
 
 Simulation::Simulation(const SceneSpec& scene, Kind kind)
@@ -131,7 +133,6 @@ Simulation::Simulation(const SceneSpec& scene, Kind kind)
 	{
 		if (!scene.bulletFile.empty()) throw std::runtime_error("multibody: a loaded .bullet scene has no tree description");
 		if (!isTree(scene)) throw std::runtime_error("multibody: scene has a closed loop");
-		if (!scene.sliders.empty()) throw std::runtime_error("multibody: prismatic joints are not built as multibody links");
 		auto* solver = new btMultiBodyConstraintSolver;
 		m_solver.reset(solver);
 		m_world.reset(new btMultiBodyDynamicsWorld(m_dispatcher.get(), m_broadphase.get(), solver, m_config.get()));
@@ -225,8 +226,7 @@ Simulation::Simulation(const SceneSpec& scene, Kind kind)
 			joints.push_back(measured);
 		}
 		for (const SliderSpec& s : scene.sliders)
-			if (kind != Kind::MultiBody)
-				addSlider(s, s.parent < 0 ? *anchor : *bodies[size_t(s.parent)], *bodies[size_t(s.child)]);
+			addSlider(s, s.parent < 0 ? *anchor : *bodies[size_t(s.parent)], *bodies[size_t(s.child)]);
 	}
 	if (m_factory)
 	{

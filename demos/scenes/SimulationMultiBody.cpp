@@ -1,5 +1,6 @@
 // The multibody kind (Kind::MultiBody): a scene's trees as btMultiBody revolute joints (Featherstone, reduced
-// coordinates), and the proxy rigid bodies that mirror their links for the metrics.
+// coordinates) — its sliders as prismatic joints, as pybullet's default URDF import builds them — and the proxy rigid
+// bodies that mirror their links for the metrics.
 #include "Simulation.h"
 
 #include <btBulletDynamicsCommon.h>
@@ -21,14 +22,32 @@ void Simulation::buildMultiBodies(const SceneSpec& scene, btRigidBody* anchor)
 {
 	// One multibody per connected tree: fixed base at the world when a joint hangs from it, else the tree's root body
 	// as a floating base. Links in breadth-first order, so a parent always precedes its children.
+	// The tree's edges: the hinges, then the sliders as prismatic joints (a JointSpec each: parent, child, pivot, axis
+	// and limits; `prismatic` tells which).
+	std::vector<JointSpec> edges = scene.joints;
+	std::vector<bool> prismatic(edges.size(), false);
+	for (const SliderSpec& s : scene.sliders)
+	{
+		JointSpec j;
+		j.parent = s.parent;
+		j.child = s.child;
+		j.pivot = s.pivot;
+		j.axis = s.axis;
+		j.hasLimit = s.hasLimit;
+		j.lower = s.lower;
+		j.upper = s.upper;
+		edges.push_back(j);
+		prismatic.push_back(true);
+	}
 	const int n = int(scene.bodies.size());
 	std::vector<int> parentJoint(size_t(n), -1);
-	for (size_t k = 0; k < scene.joints.size(); ++k)
+	for (size_t k = 0; k < edges.size(); ++k)
 	{
-		const JointSpec& j = scene.joints[k];
+		const JointSpec& j = edges[k];
 		const btQuaternion& tw = j.childFrameTwist;
 		if (btFabs(tw.x()) > SIMD_EPSILON || btFabs(tw.y()) > SIMD_EPSILON || !j.childPivotOffset.isZero())
 			throw std::runtime_error("multibody: a reduced-coordinate joint cannot start misaligned");
+		if (parentJoint[size_t(j.child)] >= 0) throw std::runtime_error("multibody: a body has two parent joints");
 		parentJoint[size_t(j.child)] = int(k);
 	}
 	m_proxyOf.assign(size_t(n), LinkRef{nullptr, -1});
@@ -47,7 +66,7 @@ void Simulation::buildMultiBodies(const SceneSpec& scene, btRigidBody* anchor)
 		{
 			std::vector<int> next;
 			for (int parent : frontier)
-				for (const JointSpec& j : scene.joints)
+				for (const JointSpec& j : edges)
 					if (j.parent == parent && !placed[size_t(j.child)])
 					{
 						placed[size_t(j.child)] = true;
@@ -72,16 +91,22 @@ void Simulation::buildMultiBodies(const SceneSpec& scene, btRigidBody* anchor)
 		for (size_t i = 0; i < order.size(); ++i)
 		{
 			const int body = order[i];
-			const JointSpec& j = scene.joints[size_t(parentJoint[size_t(body)])];
+			const JointSpec& j = edges[size_t(parentJoint[size_t(body)])];
 			const btTransform parentPose = j.parent < 0 ? btTransform::getIdentity() : scene.bodies[size_t(j.parent)].pose;
 			const btTransform& childPose = scene.bodies[size_t(body)].pose;
 			const int parentLink = j.parent < 0 || j.parent == root ? -1 : linkOf[size_t(j.parent)];
 			const btMatrix3x3 rc = childPose.getBasis(), rp = parentPose.getBasis();
-			mb->setupRevolute(int(i), bodies[size_t(body)]->getInvMass() > 0 ? 1 / bodies[size_t(body)]->getInvMass() : 0,
-							  bodies[size_t(body)]->getLocalInertia(), parentLink,
-							  childPose.getRotation().inverse() * parentPose.getRotation(), rc.transpose() * j.axis,
-							  rp.transpose() * (j.pivot - parentPose.getOrigin()), rc.transpose() * (childPose.getOrigin() - j.pivot),
-							  true);
+			const btScalar mass = bodies[size_t(body)]->getInvMass() > 0 ? 1 / bodies[size_t(body)]->getInvMass() : 0;
+			if (prismatic[size_t(parentJoint[size_t(body)])])
+				mb->setupPrismatic(int(i), mass, bodies[size_t(body)]->getLocalInertia(), parentLink,
+								   childPose.getRotation().inverse() * parentPose.getRotation(), rc.transpose() * j.axis,
+								   rp.transpose() * (j.pivot - parentPose.getOrigin()),
+								   rc.transpose() * (childPose.getOrigin() - j.pivot), true);
+			else
+				mb->setupRevolute(int(i), mass, bodies[size_t(body)]->getLocalInertia(), parentLink,
+								  childPose.getRotation().inverse() * parentPose.getRotation(), rc.transpose() * j.axis,
+								  rp.transpose() * (j.pivot - parentPose.getOrigin()),
+								  rc.transpose() * (childPose.getOrigin() - j.pivot), true);
 			m_proxyOf[size_t(body)] = {mb, int(i)};
 		}
 		mb->finalizeMultiDof();  // sizes the velocity buffers: velocities are set after it
@@ -97,9 +122,22 @@ void Simulation::buildMultiBodies(const SceneSpec& scene, btRigidBody* anchor)
 		for (size_t i = 0; i < order.size(); ++i)
 		{
 			const int body = order[i];
-			const JointSpec& j = scene.joints[size_t(parentJoint[size_t(body)])];
-			const btVector3 wParent = j.parent < 0 ? btVector3(0, 0, 0) : scene.bodies[size_t(j.parent)].angularVelocity;
-			mb->setJointVel(int(i), (scene.bodies[size_t(body)].angularVelocity - wParent).dot(j.axis));
+			const JointSpec& j = edges[size_t(parentJoint[size_t(body)])];
+			if (prismatic[size_t(parentJoint[size_t(body)])])
+			{
+				// a slider's rate: the child's velocity along the axis relative to the parent's point under its pivot
+				const BodySpec* parent = j.parent < 0 ? nullptr : &scene.bodies[size_t(j.parent)];
+				const btVector3 vParent = parent ? parent->linearVelocity + parent->angularVelocity.cross(
+																			   scene.bodies[size_t(body)].pose.getOrigin() -
+																			   parent->pose.getOrigin())
+												 : btVector3(0, 0, 0);
+				mb->setJointVel(int(i), (scene.bodies[size_t(body)].linearVelocity - vParent).dot(j.axis));
+			}
+			else
+			{
+				const btVector3 wParent = j.parent < 0 ? btVector3(0, 0, 0) : scene.bodies[size_t(j.parent)].angularVelocity;
+				mb->setJointVel(int(i), (scene.bodies[size_t(body)].angularVelocity - wParent).dot(j.axis));
+			}
 			const btScalar phi = j.childFrameTwist.getAngle() * (j.childFrameTwist.z() >= 0 ? 1 : -1);
 			if (j.hasLimit)
 			{

@@ -10,7 +10,8 @@
 // - the root link is the world (the robot hangs from its base); its collision shapes are drawn with the world;
 // - every revolute or continuous joint a hinge; revolute with pybullet's limits: lower and upper default to 0 and −1,
 //   and lower > upper is no limit (continuous), as URDF2Bullet; a fixed joint a hinge locked at 0; a prismatic joint
-//   a slider (SceneSpec::sliders: the same 6-dof constraint for every kind, as pybullet's maximal-coordinate import),
+//   a slider (SceneSpec::sliders: a 6-dof constraint in every maximal-coordinate kind, as pybullet's
+//   maximal-coordinate import; a prismatic link in the multibody kind),
 //   its limits in metres read the same way;
 // - every <collision> a piece of the body's compound shape: box, sphere, cylinder, capsule (pybullet's extension:
 //   the cylinder part `length` long, along z; pybullet makes a cylinder a 32-sided hull unless asked for the implicit
