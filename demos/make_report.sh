@@ -21,7 +21,8 @@ out=demos/out/report
 mkdir -p "$out"
 models=${QUATHINGE_MODELS_DIR:-demos/models}
 scenes_table=(pendulum chain10 chain30 heavy100 heavy1000 heavy10000 double_pendulum rotor100 flipped90 flipped179 flipped180
-              limit_hit limit_across_pi limit_wide motor_lift four_bar ragdoll spider kuka_iiwa pendulum5 inertia_ratio)
+              limit_hit limit_across_pi limit_wide motor_lift four_bar ragdoll spider kuka_iiwa pendulum5 minitaur r2d2 panda
+              inertia_ratio)
 # 1. the table: every listed scene × kind at 60 Hz, 10 iterations, with references
 $compare --models "$models" -s "${scenes_table[@]}" "${reference[@]}" -o "$out/table" >"$out/table.txt"
 # 2. error against run time: step × iterations sweep (joint error needs no reference)
