@@ -11,6 +11,7 @@
 #include "QuaternionHingeRows.h"
 #include "RowKinds.h"
 #include "SolverRowBasis.h"
+#include "WorldPointRows.h"
 
 #include "BulletDynamics/Dynamics/btRigidBody.h"
 
@@ -562,22 +563,8 @@ int btQuaternionHingeConstraint::positionRowsAt(const Pose& pose, const btTransf
 	{
 		const btVector3 rA = pose.pivotA - transA.getOrigin();
 		const btVector3 rB = pose.pivotB - transB.getOrigin();
-		const btVector3 c = pose.pivotB - pose.pivotA;
-		for (; rows < 3; ++rows)
-		{
-			btVector3 e(0, 0, 0);
-			e[rows] = 1;
-			const btVector3 angularA = e.cross(rA), angularB = rB.cross(e);
-			btScalar* j = jacobian + 12 * rows;
-			for (int k = 0; k < 3; ++k)
-			{
-				j[k] = -e[k];
-				j[3 + k] = angularA[k];
-				j[6 + k] = e[k];
-				j[9 + k] = angularB[k];
-			}
-			C[rows] = c[rows];
-		}
+		writeWorldPointRows(rA, rB, pose.pivotB - pose.pivotA, C, jacobian);
+		rows = 3;
 	}
 	AngularRows angular;
 	computeAngularRowsFromAxes(pose.axesA, pose.q, angular);

@@ -1,13 +1,14 @@
 // The point rows of Bullet's own point constraints (btQuaternionHingeStabilizerSettings::projectPointConstraints):
 // btPoint2PointConstraint and the pivot of btConeTwistConstraint (not angular-only; its swing and twist limits are not
 // projected). C = p_B − p_A, the world pivots, and J the same point rows as a quaternion hinge's
-// (btQuaternionHingeConstraint::computePositionRows, MATH.md Q13): row i, J_A = (−e_i, e_i × r_A), J_B = (e_i, r_B × e_i).
+// (btQuaternionHingeConstraint::computePositionRows, MATH.md Q13; both from plugin/src/WorldPointRows.h).
 #ifndef QUATHINGE_STABILIZER_POINT_ROWS_H
 #define QUATHINGE_STABILIZER_POINT_ROWS_H
 
 #include "BulletDynamics/ConstraintSolver/btConeTwistConstraint.h"
 #include "BulletDynamics/ConstraintSolver/btPoint2PointConstraint.h"
 #include "LinearMath/btTransform.h"
+#include "WorldPointRows.h"
 
 namespace quathinge
 {
@@ -43,22 +44,7 @@ inline int pointPositionRows(const btTypedConstraint& c, const btTransform& tran
 	btVector3 inA, inB;
 	pointPivots(c, inA, inB);
 	const btVector3 rA = transA.getBasis() * inA, rB = transB.getBasis() * inB;
-	const btVector3 error = (transB.getOrigin() + rB) - (transA.getOrigin() + rA);
-	for (int row = 0; row < 3; ++row)
-	{
-		btVector3 e(0, 0, 0);
-		e[row] = 1;
-		const btVector3 angularA = e.cross(rA), angularB = rB.cross(e);
-		btScalar* j = jacobian + 12 * row;
-		for (int k = 0; k < 3; ++k)
-		{
-			j[k] = -e[k];
-			j[3 + k] = angularA[k];
-			j[6 + k] = e[k];
-			j[9 + k] = angularB[k];
-		}
-		C[row] = error[row];
-	}
+	writeWorldPointRows(rA, rB, (transB.getOrigin() + rB) - (transA.getOrigin() + rA), C, jacobian);
 	return 3;
 }
 }  // namespace stabilizer
