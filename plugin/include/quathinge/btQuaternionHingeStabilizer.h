@@ -200,8 +200,8 @@ struct btQuaternionHingeStabilizerStats
 /// broadphase pairs: to pay for the stabilizer only where a scene needs it (the hero's ragdoll, a crane's chain) and
 /// leave the rest of the world to the solver alone. A joint left out is not projected and costs one call of
 /// needsStabilization per step; to the joints projected it is like a constraint of another type (not seen as rows).
-/// Its bodies, if no projected joint holds them, are never moved, so a world whose joints are all left out steps
-/// exactly as without the stabilizer.
+/// Its bodies, if no projected joint holds them, are never moved (unless moveAttachedBodies carries one with the
+/// projected body it hangs from), so a world whose joints are all left out steps exactly as without the stabilizer.
 struct QUATHINGE_STABILIZER_API btQuaternionHingeStabilizerFilter
 {
 	virtual ~btQuaternionHingeStabilizerFilter() {}
