@@ -73,6 +73,8 @@ namespace
 /// inertia. Smaller is nearer the massless model but harder for the maximal-coordinate solver: humanoid.urdf, 3 s at
 /// 60 Hz, stock's max separation is 11.7 m at 0.01, 1.13 m at 0.1, 0.14 m at 1 (quaternion+stab ≤ 1.5e-6 m in all).
 const double kMasslessMassFraction = 0.1;
+/// m: half the side of the cube that draws a massless link (it has no inertia of its own to draw a box of).
+const btScalar kStandInHalfExtent = btScalar(0.02);
 
 #ifdef QUATHINGE_HAVE_CONSOLE_BRIDGE
 /// Collects urdfdom's error messages (so a refusal says what urdfdom found) while it is installed.
@@ -171,7 +173,12 @@ void buildScene(SceneSpec& s, const urdf::ModelInterface& model, const Preproces
 			for (int k = 0; k < 3; ++k)
 				if (!(body.localInertia[k] >= 0))
 					throw Refusal("link '" + link->name + "': a principal moment of inertia is negative or not a number");
-			body.halfExtents = boxFromInertia(double(body.mass), body.localInertia);
+			// A link without <collision> is drawn as the box of its inertia; a massless link's stand-in has no inertia
+			// of its own to draw (the box of its stand-in values can be metres wide: Bullet's panda.urdf gives every
+			// link 0.1 kg·m², so its massless panda_link8 would be a 2.4 m box): a small cube marks where it is.
+			const bool standIn = link->inertial && !(link->inertial->mass > 0);
+			body.halfExtents = standIn ? btVector3(kStandInHalfExtent, kStandInHalfExtent, kStandInHalfExtent)
+									   : boxFromInertia(double(body.mass), body.localInertia);
 			body.pose = pose * inertialFrame;
 			for (ShapePart& part : parts) part.local = inertialFrame.inverse() * part.local;
 			body.parts = parts;
