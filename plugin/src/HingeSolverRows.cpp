@@ -454,8 +454,7 @@ int btQuaternionHingeConstraint::fillBilateralRows(btConstraintInfo2* info, cons
 					takeOffQuaternionRows(staticB ? -angularA : angularB, btScalar(1), angularA, angularB, nullptr);
 				}
 			}
-			storeXyz(info->m_J1linearAxis + at, -e);
-			storeXyz(info->m_J2linearAxis + at, e);
+			storeXyzNegatedAndAsIs(info->m_J1linearAxis + at, info->m_J2linearAxis + at, e);
 			storeXyz(info->m_J1angularAxis + at, angularA);
 			storeXyz(info->m_J2angularAxis + at, angularB);
 			info->m_constraintError[at] = error;
@@ -469,10 +468,8 @@ int btQuaternionHingeConstraint::fillBilateralRows(btConstraintInfo2* info, cons
 
 	if (m_angularRowsFirst) row = 0;
 	const int atU = row * skip, atV = atU + skip;
-	storeXyz(info->m_J1angularAxis + atU, -turnedU);
-	storeXyz(info->m_J2angularAxis + atU, turnedU);
-	storeXyz(info->m_J1angularAxis + atV, -turnedV);
-	storeXyz(info->m_J2angularAxis + atV, turnedV);
+	storeXyzNegatedAndAsIs(info->m_J1angularAxis + atU, info->m_J2angularAxis + atU, turnedU);
+	storeXyzNegatedAndAsIs(info->m_J1angularAxis + atV, info->m_J2angularAxis + atV, turnedV);
 	info->m_constraintError[atU] = errorU;
 	info->m_constraintError[atV] = errorV;
 	rowCfmOverride(kAngularKind, atU);
@@ -634,8 +631,7 @@ void btQuaternionHingeConstraint::fillRows(btConstraintInfo2* info, const btTran
 	const btScalar normalErp = rowErp(kAxialKind, info->erp);
 	auto emit = [&](const AxialRow& axial, bool setCfm, btScalar cfm) {
 		const int at = row * skip;
-		storeXyz(info->m_J1angularAxis + at, -axis);
-		storeXyz(info->m_J2angularAxis + at, axis);
+		storeXyzNegatedAndAsIs(info->m_J1angularAxis + at, info->m_J2angularAxis + at, axis);
 		info->m_constraintError[at] = axial.error;
 		info->m_lowerLimit[at] = axial.lower;
 		info->m_upperLimit[at] = axial.upper;
