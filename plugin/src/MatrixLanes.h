@@ -55,28 +55,33 @@ inline Lanes absXyz(const btVector3& v)
 	return (Lanes)((LaneBits)lanesOf(v) & mask);
 }
 
-/// l with every subnormal lane (non-zero, below the smallest normal number in magnitude) replaced by a zero of its
-/// sign; every other value (zero, normal, infinite, NaN) keeps its bits. Integer compares of the magnitude bits: exact,
-/// and the same whatever the floating-point environment.
-inline Lanes flushSubnormals(const Lanes& l)
+/// The smallest magnitude a Jacobian entry keeps: 2^-40 = 9.1e-13 (metres for a lever arm, a plain number for a unit
+/// direction's component). Anything smaller is round-off of the frames — a component of 8.9e-18 in a unit axis — and,
+/// handed to Bullet's solver, it underflows into subnormal numbers there (its products with inverse inertias and
+/// impulses, or itself: 8.9e-18 × 2.8e-22), which cost a microcode assist per operation on x86 cores (Intel: of the
+/// order of a hundred cycles) in every solver iteration through every body the row moves. Measured on an Intel Xeon,
+/// r2d2.urdf's bare quaternion world stepped 1.23 × stock's; flushing only the subnormal entries, 1.12 ×; flushing
+/// below this bound, 1.03 × (1.03 × with the thread's flush-to-zero set, the floor; README, "Cost").
+constexpr double kSmallestRowEntry = 9.094947017729282e-13;  // 2^-40
+
+/// l with every lane below kSmallestRowEntry in magnitude (zero, subnormal, or round-off) replaced by a zero of its
+/// sign; every other value (infinite and NaN included) keeps its bits. Integer compares of the magnitude bits: exact,
+/// and the same whatever the floating-point environment (a float compare would itself meet the subnormals).
+inline Lanes flushRoundOff(const Lanes& l)
 {
 	const LaneInt sign = LaneInt(1) << (8 * sizeof(btScalar) - 1);
-	// the bits of the smallest normal number: FLT_MIN 0x00800000, DBL_MIN 0x0010000000000000
-	const LaneInt smallestNormal = static_cast<LaneInt>(sizeof(btScalar) == 4 ? 0x00800000LL : 0x0010000000000000LL);
+	// the bits of 2^-40: 0x2B800000 as a float, 0x3D70000000000000 as a double
+	const LaneInt smallest = static_cast<LaneInt>(sizeof(btScalar) == 4 ? 0x2B800000LL : 0x3D70000000000000LL);
 	const LaneBits bits = (LaneBits)l;
-	const LaneBits keep = (bits & ~sign) >= smallestNormal;  // −1 where normal, infinite or NaN; 0 where zero or subnormal
+	const LaneBits keep = (bits & ~sign) >= smallest;  // −1 where kept, 0 where flushed
 	return (Lanes)(bits & (keep | sign));
 }
 
 /// The first three lanes into d[0..2] (a row of the solver's arrays: its fourth entry is not the joint's to write),
-/// subnormals flushed to zero. The rows never hand Bullet's solver a subnormal: the frames' round-off makes some (an
-/// axis component of 1e-17 times another of 1e-22 underflows), and a subnormal operand costs a microcode assist on
-/// x86 cores (Intel: of the order of a hundred cycles) in every solver iteration, through every body the row moves
-/// (measured: r2d2.urdf's quaternion world stepped 3.3 × slower on an Intel Xeon than with flush-to-zero, stock's
-/// 1.2 ×; README, "Cost").
+/// round-off flushed (flushRoundOff): the rows never hand Bullet's solver an entry below kSmallestRowEntry.
 inline void storeXyz(btScalar* d, const Lanes& l)
 {
-	const Lanes f = flushSubnormals(l);
+	const Lanes f = flushRoundOff(l);
 	d[0] = f[0];
 	d[1] = f[1];
 	d[2] = f[2];
@@ -85,7 +90,7 @@ inline void storeXyz(btScalar* d, const Lanes& l)
 /// −l into first[0..2] and l into second[0..2] (a row's two bodies' halves), as storeXyz with one flush for both.
 inline void storeXyzNegatedAndAsIs(btScalar* first, btScalar* second, const Lanes& l)
 {
-	const Lanes f = flushSubnormals(l), n = -f;
+	const Lanes f = flushRoundOff(l), n = -f;
 	first[0] = n[0];
 	first[1] = n[1];
 	first[2] = n[2];

@@ -1,6 +1,7 @@
-// The rows never hand Bullet's solver a subnormal number (MatrixLanes.h, storeXyz): round-off products of the frames
-// underflow there, and on x86 cores a subnormal operand costs a microcode assist in every solver iteration (r2d2.urdf
-// stepped 3.3 × slower on an Intel Xeon, README "Cost").
+// The rows never hand Bullet's solver an entry below 2^-40 (MatrixLanes.h, flushRoundOff, storeXyz): the frames'
+// round-off makes some (a unit axis's component of 8.9e-18), the solver's products with them underflow into subnormal
+// numbers, and on x86 cores a subnormal operand costs a microcode assist in every solver iteration (r2d2.urdf's bare
+// quaternion world stepped 1.23 × stock's on an Intel Xeon before, 1.03 × after; README "Cost").
 #include "MatrixLanes.h"
 #include "support/ScratchRows.h"
 
@@ -18,28 +19,33 @@
 
 namespace
 {
-bool subnormal(btScalar x) { return std::fpclassify(x) == FP_SUBNORMAL; }
+// non-zero and below the smallest entry the rows keep
+bool roundOff(btScalar x) { return x != 0 && std::fabs(double(x)) < quathinge::kSmallestRowEntry; }
 
 bool sameBits(btScalar a, btScalar b) { return std::memcmp(&a, &b, sizeof a) == 0; }
 }  // namespace
 
-TEST(RowsSubnormal, FlushKeepsEveryValueButSubnormals)
+TEST(RowsRoundOff, FlushKeepsEveryValueFromTwoToTheMinusFortyUp)
 {
 	using Limits = std::numeric_limits<btScalar>;
-	const btScalar tiny = Limits::min() / 4, smallest = Limits::denorm_min();
+	const btScalar smallest = btScalar(quathinge::kSmallestRowEntry), below = smallest / 2;
+	EXPECT_EQ(double(smallest), std::ldexp(1.0, -40));
 	const struct
 	{
 		btScalar in, out;
 	} cases[] = {
-		{Limits::min(), Limits::min()},   // the smallest normal number stays
-		{-Limits::min(), -Limits::min()},
-		{tiny, btScalar(0)},              // subnormals become a zero of their sign
-		{-tiny, -btScalar(0)},
-		{smallest, btScalar(0)},
+		{smallest, smallest},  // 2^-40 itself stays
+		{-smallest, -smallest},
+		{btScalar(1e-12), btScalar(1e-12)},
+		{below, btScalar(0)},  // below it: a zero of the value's sign
+		{-below, -btScalar(0)},
+		{btScalar(8.9e-18), btScalar(0)},  // r2d2's round-off
+		{Limits::min(), btScalar(0)},
+		{-Limits::denorm_min(), -btScalar(0)},
 		{btScalar(0), btScalar(0)},
 		{-btScalar(0), -btScalar(0)},
 		{btScalar(1), btScalar(1)},
-		{btScalar(-2.5e-17), btScalar(-2.5e-17)},
+		{btScalar(-0.25), btScalar(-0.25)},
 		{Limits::max(), Limits::max()},
 		{Limits::infinity(), Limits::infinity()},
 		{-Limits::infinity(), -Limits::infinity()},
@@ -47,11 +53,11 @@ TEST(RowsSubnormal, FlushKeepsEveryValueButSubnormals)
 	for (const auto& c : cases)
 	{
 		const quathinge::Lanes in = {c.in, c.in, c.in, c.in};
-		const quathinge::Lanes out = quathinge::flushSubnormals(in);
+		const quathinge::Lanes out = quathinge::flushRoundOff(in);
 		for (int k = 0; k < 4; ++k) EXPECT_TRUE(sameBits(out[k], c.out)) << double(c.in) << " → " << double(out[k]);
 	}
-	const quathinge::Lanes nan = {Limits::quiet_NaN(), tiny, btScalar(1), -tiny};
-	const quathinge::Lanes flushed = quathinge::flushSubnormals(nan);
+	const quathinge::Lanes mixed = {Limits::quiet_NaN(), below, btScalar(1), -Limits::denorm_min()};
+	const quathinge::Lanes flushed = quathinge::flushRoundOff(mixed);
 	EXPECT_TRUE(std::isnan(flushed[0])) << "a NaN stays a NaN (the joint's own checks report it)";
 	EXPECT_TRUE(sameBits(flushed[1], btScalar(0)));
 	EXPECT_TRUE(sameBits(flushed[2], btScalar(1)));
@@ -59,11 +65,11 @@ TEST(RowsSubnormal, FlushKeepsEveryValueButSubnormals)
 }
 
 #ifdef QUATHINGE_HAVE_SCENES
-TEST(RowsSubnormal, R2d2sRowsHaveNoSubnormalAfterThreeSeconds)
+TEST(RowsRoundOff, R2d2sRowsHaveNoEntryBelowTwoToTheMinusForty)
 {
 	// Bullet's r2d2.urdf with quaternion hinges, 3 s at 60 Hz: before the rows were flushed, 8 of their Jacobian
-	// entries were subnormal (its axial rows' −1, −8.9e-18, −2.5e-39; a point row's −1.6e-41, 8.9e-25, 1), where
-	// stock's rows had none
+	// entries at the end were subnormal (its axial rows' −1, −8.9e-18, −2.5e-39; a point row's −1.6e-41, 8.9e-25, 1),
+	// where stock's rows had none; now no entry is non-zero and below 2^-40
 	using namespace quathinge::scenes;
 	const SceneSpec r2d2 = makeScene("r2d2");
 	if (r2d2.unavailable.rfind("built without", 0) == 0) GTEST_SKIP() << r2d2.unavailable;  // urdfdom is optional
@@ -83,11 +89,11 @@ TEST(RowsSubnormal, R2d2sRowsHaveNoSubnormalAfterThreeSeconds)
 			joint->getInfo2(&scratch.info);
 			for (int r = 0; r < info1.m_numConstraintRows; ++r, ++rows)
 				for (int k = 0; k < 3; ++k)
-					found += subnormal(scratch.linA(r)[k]) + subnormal(scratch.angA(r)[k]) + subnormal(scratch.linB(r)[k]) +
-							 subnormal(scratch.angB(r)[k]);
+					found += roundOff(scratch.linA(r)[k]) + roundOff(scratch.angA(r)[k]) + roundOff(scratch.linB(r)[k]) +
+							 roundOff(scratch.angB(r)[k]);
 		}
 	}
 	EXPECT_GT(rows, 0);
-	EXPECT_EQ(found, 0) << "subnormal Jacobian entries over " << rows << " rows";
+	EXPECT_EQ(found, 0) << "Jacobian entries below 2^-40 over " << rows << " rows";
 }
 #endif
