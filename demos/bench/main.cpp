@@ -12,6 +12,11 @@
 //                                   ground), then a fixed number of single steps is timed (the same stretch of motion
 //                                   for every kind and repetition).
 //
+// QUATHINGE_BENCH_FTZ=1 runs every case with the thread's flush-to-zero and denormals-are-zero set (x86 MXCSR), as
+// engines that set them for their physics thread do (Jolt's FPFlushDenormals): on an Intel host subnormal numbers in
+// Bullet's solver slowed stock's chain of 1000 fourfold (README, "Cost"). Unset: the floating-point environment a
+// default Bullet app has.
+//
 // Ratios against stock and the scaling plot: demos/bench_report.py; everything in one go: demos/make_bench.sh.
 #include "JointKinds.h"
 #include "SceneSpec.h"
@@ -24,8 +29,14 @@
 #include <benchmark/benchmark.h>
 #include <btBulletDynamicsCommon.h>
 
+#if defined(__SSE__) || defined(__x86_64__)
+#include <xmmintrin.h>
+#define QUATHINGE_BENCH_HAVE_MXCSR 1
+#endif
+
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <cstdio>
 #include <memory>
 #include <stdexcept>
@@ -398,6 +409,15 @@ void registerAll()
 
 int main(int argc, char** argv)
 {
+	if (const char* ftz = std::getenv("QUATHINGE_BENCH_FTZ"); ftz && std::string(ftz) == "1")
+	{
+#ifdef QUATHINGE_BENCH_HAVE_MXCSR
+		_mm_setcsr(_mm_getcsr() | 0x8040);  // FTZ (bit 15) and DAZ (bit 6)
+		std::fprintf(stderr, "quathinge-bench: flush-to-zero and denormals-are-zero set (QUATHINGE_BENCH_FTZ=1)\n");
+#else
+		std::fprintf(stderr, "quathinge-bench: QUATHINGE_BENCH_FTZ=1 needs an x86 MXCSR: ignored\n");
+#endif
+	}
 	registerAll();
 	benchmark::Initialize(&argc, argv);
 	if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
