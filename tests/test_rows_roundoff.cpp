@@ -1,7 +1,8 @@
-// The rows never hand Bullet's solver an entry below 2^-40 (MatrixLanes.h, flushRoundOff, storeXyz): the frames'
-// round-off makes some (a unit axis's component of 8.9e-18), the solver's products with them underflow into subnormal
-// numbers, and on x86 cores a subnormal operand costs a microcode assist in every solver iteration (r2d2.urdf's bare
-// quaternion world stepped 1.23 × stock's on an Intel Xeon before, 1.03 × after; README "Cost").
+// With float Bullet the rows never hand the solver a non-zero entry below 2^-40 (MatrixLanes.h, flushRoundOff,
+// storeXyz): the frames' round-off makes some (a unit axis's component of 8.9e-18), the solver's products with them
+// underflow into subnormal numbers, and on x86 cores a subnormal operand costs a microcode assist in every solver
+// iteration (r2d2.urdf's bare quaternion world stepped 1.23 × stock's on an Intel Xeon before, 1.04 × after; README
+// "Cost"). Double Bullet flushes only below 2^-300, so its rows keep their bits.
 #include "MatrixLanes.h"
 #include "support/ScratchRows.h"
 
@@ -25,11 +26,17 @@ bool roundOff(btScalar x) { return x != 0 && std::fabs(double(x)) < quathinge::k
 bool sameBits(btScalar a, btScalar b) { return std::memcmp(&a, &b, sizeof a) == 0; }
 }  // namespace
 
-TEST(RowsRoundOff, FlushKeepsEveryValueFromTwoToTheMinusFortyUp)
+TEST(RowsRoundOff, FlushKeepsEveryValueFromTheSmallestRowEntryUp)
 {
 	using Limits = std::numeric_limits<btScalar>;
 	const btScalar smallest = btScalar(quathinge::kSmallestRowEntry), below = smallest / 2;
+#ifdef BT_USE_DOUBLE_PRECISION
+	EXPECT_EQ(double(smallest), std::ldexp(1.0, -300));
+	const btScalar roundOff = btScalar(8.9e-18);  // kept: double's round-off stalls nothing
+#else
 	EXPECT_EQ(double(smallest), std::ldexp(1.0, -40));
+	const btScalar roundOff = btScalar(0);  // flushed: r2d2's round-off
+#endif
 	const struct
 	{
 		btScalar in, out;
@@ -37,9 +44,10 @@ TEST(RowsRoundOff, FlushKeepsEveryValueFromTwoToTheMinusFortyUp)
 		{smallest, smallest},  // 2^-40 itself stays
 		{-smallest, -smallest},
 		{btScalar(1e-12), btScalar(1e-12)},
+		{btScalar(2) * smallest, btScalar(2) * smallest},
 		{below, btScalar(0)},  // below it: a zero of the value's sign
 		{-below, -btScalar(0)},
-		{btScalar(8.9e-18), btScalar(0)},  // r2d2's round-off
+		{btScalar(8.9e-18), roundOff},
 		{Limits::min(), btScalar(0)},
 		{-Limits::denorm_min(), -btScalar(0)},
 		{btScalar(0), btScalar(0)},
@@ -65,11 +73,11 @@ TEST(RowsRoundOff, FlushKeepsEveryValueFromTwoToTheMinusFortyUp)
 }
 
 #ifdef QUATHINGE_HAVE_SCENES
-TEST(RowsRoundOff, R2d2sRowsHaveNoEntryBelowTwoToTheMinusForty)
+TEST(RowsRoundOff, R2d2sRowsHaveNoEntryBelowTheSmallestRowEntry)
 {
 	// Bullet's r2d2.urdf with quaternion hinges, 3 s at 60 Hz: before the rows were flushed, 8 of their Jacobian
 	// entries at the end were subnormal (its axial rows' −1, −8.9e-18, −2.5e-39; a point row's −1.6e-41, 8.9e-25, 1),
-	// where stock's rows had none; now no entry is non-zero and below 2^-40
+	// where stock's rows had none; now no entry is non-zero and below kSmallestRowEntry (2^-40 in float)
 	using namespace quathinge::scenes;
 	const SceneSpec r2d2 = makeScene("r2d2");
 	if (r2d2.unavailable.rfind("built without", 0) == 0) GTEST_SKIP() << r2d2.unavailable;  // urdfdom is optional
@@ -94,6 +102,6 @@ TEST(RowsRoundOff, R2d2sRowsHaveNoEntryBelowTwoToTheMinusForty)
 		}
 	}
 	EXPECT_GT(rows, 0);
-	EXPECT_EQ(found, 0) << "Jacobian entries below 2^-40 over " << rows << " rows";
+	EXPECT_EQ(found, 0) << "Jacobian entries below kSmallestRowEntry over " << rows << " rows";
 }
 #endif

@@ -55,14 +55,16 @@ inline Lanes absXyz(const btVector3& v)
 	return (Lanes)((LaneBits)lanesOf(v) & mask);
 }
 
-/// The smallest magnitude a Jacobian entry keeps: 2^-40 = 9.1e-13 (metres for a lever arm, a plain number for a unit
-/// direction's component). Anything smaller is round-off of the frames — a component of 8.9e-18 in a unit axis — and,
-/// handed to Bullet's solver, it underflows into subnormal numbers there (its products with inverse inertias and
-/// impulses, or itself: 8.9e-18 × 2.8e-22), which cost a microcode assist per operation on x86 cores (Intel: of the
-/// order of a hundred cycles) in every solver iteration through every body the row moves. Measured on an Intel Xeon,
-/// r2d2.urdf's bare quaternion world stepped 1.23 × stock's; flushing only the subnormal entries, 1.12 ×; flushing
-/// below this bound, 1.03 × (1.03 × with the thread's flush-to-zero set, the floor; README, "Cost").
-constexpr double kSmallestRowEntry = 9.094947017729282e-13;  // 2^-40
+/// The smallest magnitude a Jacobian entry keeps with float Bullet: 2^-40 = 9.1e-13 (metres for a lever arm, a plain
+/// number for a unit direction's component). Anything smaller is round-off of the frames — a component of 8.9e-18 in
+/// a unit axis — and, handed to Bullet's solver, it underflows into subnormal numbers there (its products with inverse
+/// inertias and impulses, or itself: 8.9e-18 × 2.8e-22), which cost a microcode assist per operation on x86 cores
+/// (Intel: of the order of a hundred cycles) in every solver iteration through every body the row moves. Measured on
+/// an Intel Xeon, r2d2.urdf's bare quaternion world stepped 1.23 × stock's; flushing only the subnormal entries,
+/// 1.12 ×; flushing below this bound, 1.04 × (1.07 × with the thread's flush-to-zero set, where neither stalls;
+/// README, "Cost"). Double's subnormals start at 2^-1022, far below any product of round-off, so double Bullet flushes
+/// only below 2^-300: its rows keep their bits (double's round-off, 1e-17 in a unit axis, is no stall there).
+constexpr double kSmallestRowEntry = sizeof(btScalar) == 4 ? 9.094947017729282e-13 : 4.9090934652977266e-91;
 
 /// l with every lane below kSmallestRowEntry in magnitude (zero, subnormal, or round-off) replaced by a zero of its
 /// sign; every other value (infinite and NaN included) keeps its bits. Integer compares of the magnitude bits: exact,
@@ -70,15 +72,15 @@ constexpr double kSmallestRowEntry = 9.094947017729282e-13;  // 2^-40
 inline Lanes flushRoundOff(const Lanes& l)
 {
 	const LaneInt sign = LaneInt(1) << (8 * sizeof(btScalar) - 1);
-	// the bits of 2^-40: 0x2B800000 as a float, 0x3D70000000000000 as a double
-	const LaneInt smallest = static_cast<LaneInt>(sizeof(btScalar) == 4 ? 0x2B800000LL : 0x3D70000000000000LL);
+	// the bits of kSmallestRowEntry: 2^-40 as a float 0x2B800000, 2^-300 as a double 0x2D30000000000000
+	const LaneInt smallest = static_cast<LaneInt>(sizeof(btScalar) == 4 ? 0x2B800000LL : 0x2D30000000000000LL);
 	const LaneBits bits = (LaneBits)l;
 	const LaneBits keep = (bits & ~sign) >= smallest;  // −1 where kept, 0 where flushed
 	return (Lanes)(bits & (keep | sign));
 }
 
 /// The first three lanes into d[0..2] (a row of the solver's arrays: its fourth entry is not the joint's to write),
-/// round-off flushed (flushRoundOff): the rows never hand Bullet's solver an entry below kSmallestRowEntry.
+/// round-off flushed (flushRoundOff): the rows never hand Bullet's solver a non-zero entry below kSmallestRowEntry.
 inline void storeXyz(btScalar* d, const Lanes& l)
 {
 	const Lanes f = flushRoundOff(l);
