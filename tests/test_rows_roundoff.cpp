@@ -20,9 +20,6 @@
 
 namespace
 {
-// non-zero and below the smallest entry the rows keep
-bool roundOff(btScalar x) { return x != 0 && std::fabs(double(x)) < quathinge::kSmallestRowEntry; }
-
 bool sameBits(btScalar a, btScalar b) { return std::memcmp(&a, &b, sizeof a) == 0; }
 }  // namespace
 
@@ -73,6 +70,12 @@ TEST(RowsRoundOff, FlushKeepsEveryValueFromTheSmallestRowEntryUp)
 }
 
 #ifdef QUATHINGE_HAVE_SCENES
+namespace
+{
+// non-zero and below the smallest entry the rows keep
+bool roundOff(btScalar x) { return x != 0 && std::fabs(double(x)) < quathinge::kSmallestRowEntry; }
+}  // namespace
+
 TEST(RowsRoundOff, R2d2sRowsHaveNoEntryBelowTheSmallestRowEntry)
 {
 	// Bullet's r2d2.urdf with quaternion hinges, 3 s at 60 Hz: before the rows were flushed, 8 of their Jacobian
