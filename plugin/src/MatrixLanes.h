@@ -72,8 +72,10 @@ constexpr double kSmallestRowEntry = sizeof(btScalar) == 4 ? 9.094947017729282e-
 inline Lanes flushRoundOff(const Lanes& l)
 {
 	const LaneInt sign = LaneInt(1) << (8 * sizeof(btScalar) - 1);
-	// the bits of kSmallestRowEntry: 2^-40 as a float 0x2B800000, 2^-300 as a double 0x2D30000000000000
-	const LaneInt smallest = static_cast<LaneInt>(sizeof(btScalar) == 4 ? 0x2B800000LL : 0x2D30000000000000LL);
+	// the bits of kSmallestRowEntry (a power of two, exact in either precision); the copy folds to a constant
+	const btScalar smallestValue = btScalar(kSmallestRowEntry);
+	LaneInt smallest;
+	std::memcpy(&smallest, &smallestValue, sizeof smallest);
 	const LaneBits bits = (LaneBits)l;
 	const LaneBits keep = (bits & ~sign) >= smallest;  // −1 where kept, 0 where flushed
 	return (Lanes)(bits & (keep | sign));
