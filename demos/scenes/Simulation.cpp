@@ -98,10 +98,10 @@ btTransform childFrame(const JointSpec& j)
 
 }  // namespace
 
-// A prismatic joint as pybullet's maximal-coordinate URDF import builds one, and the same for every kind:
-// btGeneric6DofSpring2Constraint whose frames' x axis is the slide, x free or limited to [lower, upper], the other
-// two linear and the three angular axes locked.
-// The multibody kind builds it as a prismatic link (SimulationMultiBody.cpp): only measured here.
+// A prismatic joint as pybullet's maximal-coordinate URDF import builds one, the same in every maximal-coordinate
+// kind: btGeneric6DofSpring2Constraint whose frames' x axis is the slide, x free or limited to [lower, upper], the
+// other two linear and the three angular axes locked. The multibody kind builds it as a prismatic link
+// (SimulationMultiBody.cpp): here it is only measured.
 void Simulation::addSlider(const SliderSpec& s, btRigidBody& a, btRigidBody& b)
 {
 	btVector3 y, z;
