@@ -31,7 +31,7 @@ struct btQuaternionHingeStabilizer::Impl
 	UpcastCache upcasts;              // which of the world's constraints are quaternion hinges
 	// every island body by its collision object, with its island (built with the islands)
 	IslandBodyMap bodyOf;
-	Array<AttachedBody> attached;     // this step's attached bodies (settings.moveAttachedBodies)
+	Array<AttachedBody> attached;     // this step's attached bodies (moveAttachedBodies, closeAttachedConstraints)
 	Array<std::unique_ptr<Island>> islands;
 	bool built = false;
 };
@@ -173,7 +173,7 @@ const btQuaternionHingeStabilizerStats& btQuaternionHingeStabilizer::stabilize(b
 		}
 	}
 	impl.attached.clear();  // keeps its capacity: no allocation the next step
-	if (m_settings.moveAttachedBodies)
+	if (m_settings.moveAttachedBodies || m_settings.closeAttachedConstraints)
 		for (const auto& island : impl.islands)
 			for (IslandBody& b : island->bodies) findAttachedBodies(*b.rigid, impl.bodyOf, impl.attached);
 	for (const auto& islandPtr : impl.islands)
@@ -212,7 +212,8 @@ const btQuaternionHingeStabilizerStats& btQuaternionHingeStabilizer::stabilize(b
 		m_stats.velocityResidualBefore = std::max(m_stats.velocityResidualBefore, r.velocityResidualBefore);
 		m_stats.velocityResidualAfter = std::max(m_stats.velocityResidualAfter, r.velocityResidualAfter);
 	}
-	m_stats.attachedBodiesMoved = carryAttachedBodies(impl.attached);
+	if (m_settings.moveAttachedBodies) m_stats.attachedBodiesMoved = carryAttachedBodies(impl.attached);
+	if (m_settings.closeAttachedConstraints) m_stats.attachedConstraintsClosed = closeAttachedConstraints(impl.attached);
 	m_stats.timeMicroseconds =
 		std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - start).count();
 	return m_stats;
