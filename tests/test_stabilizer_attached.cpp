@@ -16,6 +16,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <utility>
 
 using namespace qh_test;
@@ -147,6 +148,25 @@ TEST(StabilizerAttached, ClosingPutsTheLampBackOnItsCord)
 		const double kStill = 1e-5;  // m/s: the pivots' relative velocity after the impulse (float rounding)
 		EXPECT_LE(double((pointVelocity(*w.lamp, pivot) - pointVelocity(host, pivot)).length()), kStill);
 	}
+}
+
+TEST(StabilizerAttached, ALampWithANonFiniteVelocityIsNotClosed)
+{
+	// a lamp handed a NaN velocity from outside: closing would carry the NaN into its pose (the impulse, then the
+	// state), so it is left as it is and not counted; the chain is still projected
+	ChainWithLamp w;
+	btQuaternionHingeStabilizer stabilizer(carrying(false, true));
+	for (int i = 0; i < 30; ++i) w.scene.world().stepSimulation(kTimeStep, 0, kTimeStep);
+	w.lamp->setLinearVelocity(btVector3(std::numeric_limits<btScalar>::quiet_NaN(), 0, 0));
+	const btTransform before = w.lamp->getCenterOfMassTransform();
+	const btVector3 spin = w.lamp->getAngularVelocity();
+	const btQuaternionHingeStabilizerStats& stats = stabilizer.stabilize(&w.scene.world(), kTimeStep);
+	EXPECT_EQ(stats.attachedConstraintsClosed, 0);
+	EXPECT_TRUE(w.lamp->getCenterOfMassTransform() == before);
+	EXPECT_TRUE(w.lamp->getAngularVelocity() == spin);
+	double separation = 0, misalignment = 0;
+	w.scene.jointErrors(separation, misalignment);
+	EXPECT_LE(separation, kSeparationTolerance);
 }
 
 TEST(StabilizerAttached, AWeldAndASixDofWithItsOffsetLockedHoldWhenClosed)

@@ -6,6 +6,8 @@
 #include "BulletDynamics/ConstraintSolver/btTypedConstraint.h"
 #include "BulletDynamics/Dynamics/btRigidBody.h"
 
+#include <cmath>
+
 namespace quathinge
 {
 namespace stabilizer
@@ -147,6 +149,10 @@ bool close(btRigidBody& body, const btRigidBody& host, const Closable& k, bool b
 		v += impulse * body.getInvMass();
 		w += inverseInertia * r.cross(impulse);
 	}
+	// a body near float's end (or with an inverse mass that is not finite) must not be handed a non-finite state
+	btScalar sum = t.getOrigin().length2() + v.length2() + w.length2();
+	for (int i = 0; i < 3; ++i) sum += t.getBasis()[i].length2();
+	if (!std::isfinite(sum)) return false;
 	setState(body, t, v, w);
 	return true;
 }
