@@ -25,7 +25,8 @@ enum class Kind
 	Stock,
 	Quaternion,
 	QuaternionStabilized,
-	QuaternionStabilizedPoints  // projectPointConstraints: the cone twists' pivots projected with the hinges
+	QuaternionStabilizedPoints,  // projectPointConstraints: the cone twists' pivots projected with the hinges
+	QuaternionStabilizedContacts  // … and projectContacts: the contacts too (ground and part against part)
 };
 
 struct Figures
@@ -83,14 +84,14 @@ public:
 				m_constraints.emplace_back(replacement);
 			}
 		}
-		if (kind == Kind::QuaternionStabilizedPoints)
+		if (kind == Kind::QuaternionStabilizedPoints || kind == Kind::QuaternionStabilizedContacts)
 		{
 			btQuaternionHingeStabilizerSettings settings;
 			settings.projectPointConstraints = true;
+			settings.projectContacts = kind == Kind::QuaternionStabilizedContacts;
 			m_stabilizer.setSettings(settings);
 		}
-		if (kind == Kind::QuaternionStabilized || kind == Kind::QuaternionStabilizedPoints)
-			m_world->addAction(&m_stabilizer);
+		if (kind != Kind::Stock && kind != Kind::Quaternion) m_world->addAction(&m_stabilizer);
 	}
 	~MixedRagdolls()
 	{
@@ -340,5 +341,28 @@ TEST(StabilizerMixed, RagdollDemoWithItsConeTwistsProjectedHoldsEveryJoint)
 	EXPECT_LE(points.groundPenetrationLate, kMeasuredRatio * bare.groundPenetrationLate + kSlack);
 	EXPECT_LE(points.bodyPenetrationLate, kMeasuredRatio * bare.bodyPenetrationLate + kSlack);
 	EXPECT_LE(points.groundPenetration, kMeasuredRatio * bare.groundPenetration + kSlack);
+}
+
+TEST(StabilizerMixed, RagdollDemoWithItsContactsProjectedRestsShallowerThanWithoutTheStabilizer)
+{
+	// projectContacts with projectPointConstraints: the contacts with the ground and between the island bodies are
+	// rows of the projection too (one-sided), so the projection closes every joint without handing the contacts the
+	// error (measured over 32 spins in float, README "Mixed ragdolls": late ground penetration 1.8e-3 m against
+	// 4.3e-3 bare, late part-part 1.6e-4 against 1.0e-3). Every figure is held to the "no worse" bounds of the first
+	// test, every joint to the stabilizer's tolerance, and at rest the ragdolls sink less deep than without it.
+	const int steps = 240;
+	const int variants = 8;
+	const Figures bare = meanOver(Kind::Quaternion, variants, steps);
+	const Figures contacts = meanOver(Kind::QuaternionStabilizedContacts, variants, steps);
+	print("quaternion", bare);
+	print("q+stab+contacts", contacts);
+	EXPECT_LE(contacts.coneSeparation, kSeparationTolerance);
+	EXPECT_LE(contacts.hingeSeparation, kSeparationTolerance);
+	const double kNotWorse = 1.2;  // ratio, as in the first test
+	const double kSlack = 1e-3;    // m
+	EXPECT_LE(contacts.groundPenetration, kNotWorse * bare.groundPenetration + kSlack);
+	EXPECT_LE(contacts.bodyPenetration, kNotWorse * bare.bodyPenetration + kSlack);
+	EXPECT_LT(contacts.groundPenetrationLate, bare.groundPenetrationLate);
+	EXPECT_LT(contacts.bodyPenetrationLate, bare.bodyPenetrationLate);
 }
 #endif

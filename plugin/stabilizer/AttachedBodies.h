@@ -22,11 +22,10 @@
 #define QUATHINGE_STABILIZER_ATTACHED_BODIES_H
 
 #include "BulletAllocator.h"
+#include "StabilizerIsland.h"
 
 #include "LinearMath/btTransform.h"
 
-#include <unordered_map>
-#include <utility>
 
 class btCollisionObject;
 class btRigidBody;
@@ -36,10 +35,6 @@ namespace quathinge
 {
 namespace stabilizer
 {
-struct Island;
-struct IslandBody;
-/// Every island body by its collision object, with its island.
-using IslandBodyMap = std::unordered_map<const btCollisionObject*, std::pair<const Island*, IslandBody*>>;
 
 struct AttachedBody
 {

@@ -62,7 +62,8 @@ bool hangsOnMovingBody(const Island& island)
 {
 	for (const JointSlot& js : island.joints)
 		for (int s = 0; s < 2; ++s)
-			if (js.body[s] < 0 && (!js.rigid[s]->getLinearVelocity().fuzzyZero() || !js.rigid[s]->getAngularVelocity().fuzzyZero()))
+			if (js.body[s] < 0 && js.rigid[s] &&  // (a contact slot has no partner body: IslandContacts.h)
+				(!js.rigid[s]->getLinearVelocity().fuzzyZero() || !js.rigid[s]->getAngularVelocity().fuzzyZero()))
 				return true;
 	return false;
 }

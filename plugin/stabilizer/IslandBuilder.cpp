@@ -282,6 +282,7 @@ void buildIslands(const Array<SignatureEntry>& scan, bool forceSparse,
 		JointSlot slot;
 		slot.joint = e.joint;
 		slot.point = e.point;
+		slot.contact = -1;
 		slot.rigid[0] = e.body[0];
 		slot.rigid[1] = e.body[1];
 		slot.body[0] = a >= 0 ? localBody[a] : -1;
@@ -290,13 +291,27 @@ void buildIslands(const Array<SignatureEntry>& scan, bool forceSparse,
 		slot.linearRows = (e.flags & SignatureEntry::kAngularOnly) ? 0 : 3;
 		slot.limitSlot = (e.flags & SignatureEntry::kLimitSlot) != 0;
 		slot.rows = slot.bilateralRows + (slot.limitSlot ? 1 : 0);
+		slot.contactTouched = slot.contactReleased = slot.contactActiveInFactor = 0;
+		if (e.flags & SignatureEntry::kContact)
+		{
+			// a contact slot (IslandContacts.h): R optional rows, all linear, whose linear part is written per step
+			slot.contact = int(island.contacts.size());
+			ContactSet set;
+			set.body[0] = e.body[0];
+			set.body[1] = e.body[1];
+			island.contacts.push_back(set);
+			if (slot.body[1] < 0) island.bodies[size_t(slot.body[0])].contactSet = slot.contact;
+			slot.bilateralRows = 0;
+			slot.rows = slot.linearRows = island.blockRows;
+		}
 		slot.angleReference = slot.angle = 0;
 		slot.limitActive = slot.limitActiveInFactor = false;
 		slot.limitTouched = 0;
 		slot.linearThreshold = slot.angularThreshold = 0;
 		slot.limitGradient.setZero();
 		for (int side = 0; side < 2; ++side)
-			slot.linearSign[side] = (e.flags & SignatureEntry::kAngularOnly) ? 0 : (side == 0 ? -1 : 1);
+			slot.linearSign[side] =
+				(e.flags & (SignatureEntry::kAngularOnly | SignatureEntry::kContact)) ? 0 : (side == 0 ? -1 : 1);
 		island.joints.push_back(slot);
 	}
 

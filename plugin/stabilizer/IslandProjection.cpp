@@ -44,6 +44,7 @@
 // The pieces they use: IslandRows.h (C, J, J v and the residuals), IslandSystem.h (K, its factorization, the solves),
 // IslandBodies.h (M⁻¹ in each metric, moving the bodies).
 #include "IslandBodies.h"
+#include "IslandContacts.h"
 #include "IslandRows.h"
 #include "IslandSystem.h"
 #include "StabilizerIsland.h"
@@ -80,6 +81,8 @@ const int kMaxHalvings = 2;
 const btScalar kNearFloor = 4;
 // Velocity solves per step: a chord solve or two, then an exact one if they stall.
 const int kMaxVelocitySolves = 3;
+// Rounds of taking out contact rows that pull (IslandContacts.h) after one solve, each with a factorization.
+const int kMaxContactReleases = 4;
 
 // One island's step: the position stage (Q13), then the velocity stage (Q14), sharing the factorization of K and
 // what the first stage did (which metric it ended in, whether it already projected the velocities).
@@ -104,6 +107,7 @@ struct IslandStep
 		{
 			js.limitTouched = 0;
 			js.limitActive = js.limitActiveInFactor = false;  // js.angleReference: readAngleReferences
+			js.contactTouched = js.contactReleased = js.contactActiveInFactor = 0;
 		}
 	}
 
@@ -146,8 +150,33 @@ struct IslandStep
 			return;
 		}
 		if (!solveVelocityDeltas(island, vres.limitsChanged, result)) return;
+		// a contact row that would hold its body down (λ < 0) is the velocity stage's to take out (its K differs)
+		if (pullingContact()) return;
 		velocitiesProjected = true;
 		changeVelocities(island);
+	}
+
+	// Some contact row in the system pulls in the last solve (λ < 0: IslandContacts.h).
+	bool pullingContact() const
+	{
+		if (island.contacts.empty()) return false;
+		for (size_t j = 0; j < island.joints.size(); ++j)
+			if (island.joints[j].contact >= 0)
+				for (int r = 0; r < R; ++r)
+					if ((island.joints[j].contactTouched & (1u << r)) && island.lambda[j][r] < 0) return true;
+		return false;
+	}
+	// After a solve with rhs: contact rows that pull are taken out, K factorized again and the solve repeated, until
+	// none pulls (at most kMaxContactReleases times). False if a factorization failed.
+	bool solveAgainWithoutPullingContacts(BlockVector<R> JointBlock<R>::*rhs)
+	{
+		if (island.contacts.empty()) return true;
+		for (int k = 0; k < kMaxContactReleases && releasePullingContacts(island); ++k)
+		{
+			if (!factorize()) return false;
+			solveDeltas(island, rhs, result);
+		}
+		return true;
 	}
 
 	// (Q13) Newton on C = 0, ending in M with the bodies' inertia refreshed.
@@ -174,6 +203,7 @@ struct IslandStep
 				else
 					computeDirections(island);  // chord step: the factorized K, the current J
 				solveDeltas(island, &JointBlock<R>::c, result);
+				if (!solveAgainWithoutPullingContacts(&JointBlock<R>::c)) break;
 				saveTransforms(island);
 				const PositionResidual start = res;
 				double step = 1;
@@ -227,7 +257,10 @@ struct IslandStep
 		if (result.iterations > 0) finishPositions(island);
 		result.residualAfter = res.max();
 		for (const JointSlot& js : island.joints)
+		{
 			if (js.limitTouched != 0) ++result.activeLimitRows;
+			for (unsigned rows = js.contactTouched; rows != 0; rows &= rows - 1) ++result.contactRows;
+		}
 	}
 
 	// (Q14) J v = 0 at the final positions.
@@ -257,6 +290,11 @@ struct IslandStep
 				if (!factorize()) break;
 				factorizedHere = true;
 				solveDeltas(island, &JointBlock<R>::jv, result);
+			}
+			if (pullingContact())
+			{
+				if (!solveAgainWithoutPullingContacts(&JointBlock<R>::jv)) break;
+				factorNow = factorizedHere = true;
 			}
 			changeVelocities(island);
 			const btScalar previous = vres.normalized;

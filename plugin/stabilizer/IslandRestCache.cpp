@@ -38,12 +38,15 @@ struct Gather
 const size_t kPerBody = 12 + 3 + 3 + 1 + 3 + 3 + 3 + 1;
 const size_t kPerFixedSide = 12 + 3 + 3;
 const size_t kPerJoint = 12 + 12 + 1 + 2;
+// a contact slot (projectContacts): its points' count, then per point its local and partner points, normal and sign
+const size_t kPerContactSlot = 1 + (3 + 3 + 3 + 1) * size_t(kMaxContactRows);
 
 size_t inputSize(const Island& island)
 {
 	size_t n = 1 + kPerBody * island.bodies.size();
 	for (const JointSlot& js : island.joints)
-		n += kPerJoint + (js.limitSlot ? 1 : 0) + kPerFixedSide * size_t((js.body[0] < 0) + (js.body[1] < 0));
+		n += js.contact >= 0 ? kPerContactSlot
+							 : kPerJoint + (js.limitSlot ? 1 : 0) + kPerFixedSide * size_t((js.body[0] < 0) + (js.body[1] < 0));
 	return n;
 }
 
@@ -67,6 +70,20 @@ void gatherInputs(const Island& island, btScalar timeStep, Array<btScalar>& out)
 	}
 	for (const JointSlot& js : island.joints)
 	{
+		if (js.contact >= 0)  // its points (their partners are static or asleep: the points say where they are)
+		{
+			const ContactSet& set = island.contacts[size_t(js.contact)];
+			g.add(btScalar(set.count));
+			for (int r = 0; r < kMaxContactRows; ++r)
+			{
+				const bool used = r < set.count;
+				g.add(used ? set.rows[r].local : btVector3(0, 0, 0));
+				g.add(used ? set.rows[r].other : btVector3(0, 0, 0));
+				g.add(used ? set.rows[r].normal : btVector3(0, 0, 0));
+				g.add(used ? set.rows[r].sign : btScalar(0));
+			}
+			continue;
+		}
 		for (int s = 0; s < 2; ++s)
 			if (js.body[s] < 0)  // a fixed partner (static, kinematic, asleep): its pose and velocity enter the rows
 			{

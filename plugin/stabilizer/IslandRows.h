@@ -4,6 +4,7 @@
 #ifndef QUATHINGE_STABILIZER_ISLAND_ROWS_H
 #define QUATHINGE_STABILIZER_ISLAND_ROWS_H
 
+#include "IslandContacts.h"
 #include "PointRows.h"
 #include "StabilizerIsland.h"
 
@@ -52,6 +53,18 @@ PositionResidual evaluatePositions(BlockIsland<R>& island, btScalar tolerance)
 	{
 		JointSlot& js = island.joints[j];
 		JointBlock<R>& jb = island.blocks[j];
+		if (__builtin_expect(js.contact >= 0, 0))  // a contact slot (IslandContacts.h): linear rows, at the bodies' coordinate
+		{
+			btScalar coordinate = maxAbs(js.rigid[0]->getCenterOfMassPosition());
+			if (js.rigid[1]) coordinate = btMax(coordinate, maxAbs(js.rigid[1]->getCenterOfMassPosition()));
+			js.linearThreshold = btMax(tolerance, 4 * SIMD_EPSILON * btMax(btScalar(1), coordinate));
+			js.angularThreshold = angularThreshold;
+			const btScalar worst = evaluateContactRows(island, js, jb, js.linearThreshold);
+			res.linear = btMax(res.linear, worst);
+			res.normalized = btMax(res.normalized, worst / js.linearThreshold);
+			if (js.contactTouched != js.contactActiveInFactor) res.limitsChanged = true;
+			continue;
+		}
 		const btTransform& tA = js.rigid[0]->getCenterOfMassTransform();
 		const btTransform& tB = js.rigid[1]->getCenterOfMassTransform();
 		// A joint with a limit slot also needs its angle row: both from one evaluation of the joint frames.
@@ -112,6 +125,13 @@ PositionResidual evaluatePositions(BlockIsland<R>& island, btScalar tolerance)
 	return res;
 }
 
+// A static body at rest, standing in for a contact slot's fixed partners where a velocity is read.
+inline const btRigidBody* atRest()
+{
+	static const btRigidBody body(btRigidBody::btRigidBodyConstructionInfo(0, nullptr, nullptr));
+	return &body;
+}
+
 struct VelocityResidual
 {
 	btScalar max = 0;            // ‖J v‖∞ (m/s, rad/s)
@@ -132,10 +152,12 @@ VelocityResidual evaluateVelocities(BlockIsland<R>& island, bool decideLimits, b
 		JointBlock<R>& jb = island.blocks[j];
 		Eigen::Matrix<double, 12, 1> v;
 		btScalar speed = 0;
+		// a contact slot's fixed partners (no body: static or asleep) are at rest; point them at a body at rest
+		const btRigidBody* const rigid[2] = {js.rigid[0], js.rigid[1] ? js.rigid[1] : atRest()};
 		for (int s = 0; s < 2; ++s)
 		{
-			const btVector3& lin = js.rigid[s]->getLinearVelocity();
-			const btVector3& ang = js.rigid[s]->getAngularVelocity();
+			const btVector3& lin = rigid[s]->getLinearVelocity();
+			const btVector3& ang = rigid[s]->getAngularVelocity();
 			for (int k = 0; k < 3; ++k)
 			{
 				v[6 * s + k] = lin[k];
@@ -156,6 +178,7 @@ VelocityResidual evaluateVelocities(BlockIsland<R>& island, bool decideLimits, b
 			else jb.jacobian.row(r).setZero();
 			if (js.limitActive != js.limitActiveInFactor) res.limitsChanged = true;
 		}
+		if (js.contact >= 0 && js.contactTouched != js.contactActiveInFactor) res.limitsChanged = true;
 		jb.jv.noalias() = jb.jacobian * v;
 		const btScalar floor = 4 * SIMD_EPSILON * btMax(btScalar(1), speed);
 		const int linearRows = js.linearRows;

@@ -54,6 +54,39 @@ inline void addSideProduct(Block<R>& dst, const JointJacobian<R>& jacobian, int 
 	});
 }
 
+// A contact slot's diagonal block (IslandContacts.h): its angular products as a joint's, and its linear part (n per
+// row, not ±I) as L diag(m⁻¹) Lᵀ; its rows in the system into trace and activeRows.
+template <int R>
+void assembleContactDiagonal(const BlockIsland<R>& island, const JointSlot& js, const JointBlock<R>& jb, Block<R>& d,
+							 double& trace, int& activeRows)
+{
+	d.setZero();
+	for (int s = 0; s < 2; ++s)
+	{
+		if (js.body[s] < 0) continue;
+		addSideProduct<R, false, true>(d, jb.jacobian, 6 * s + 3, jb.h[s]);
+		const auto linear = jb.jacobian.template block<R, 3>(0, 6 * s);
+		d.template topLeftCorner<R, R>().noalias() += linear * island.bodies[js.body[s]].invMass.asDiagonal() * linear.transpose();
+	}
+	for (int r = 0; r < R; ++r)
+		if (js.contactTouched & (1u << r))
+		{
+			trace += d(r, r);
+			++activeRows;
+		}
+}
+
+// A coupling with a contact slot on one side: J_i,lin diag(m⁻¹) J_j,linᵀ (a joint's linear part, ±I or 0, is in its
+// stored J as well).
+template <int R>
+void addContactLinearProduct(const BlockIsland<R>& island, const Coupling& c, Block<R>& b)
+{
+	const auto linearI = island.blocks[c.i].jacobian.template block<R, 3>(0, 6 * c.sideI);
+	const auto linearJ = island.blocks[c.j].jacobian.template block<R, 3>(0, 6 * c.sideJ);
+	b.template topLeftCorner<R, R>().noalias() +=
+		linearI * island.bodies[island.joints[c.i].body[c.sideI]].invMass.asDiagonal() * linearJ.transpose();
+}
+
 // K = J M⁻¹ Jᵀ + regularization into island.k (the directions must be current). Returns the scale s.
 // Per pair of joint sides on body b: J_i M_b⁻¹ J_jᵀ = σ_i σ_j diag(m_b⁻¹) (top-left 3×3) + A_i h_j.
 template <int R>
@@ -66,6 +99,11 @@ double assemble(BlockIsland<R>& island, double regularization)
 		const JointSlot& js = island.joints[j];
 		const JointBlock<R>& jb = island.blocks[j];
 		Block<R>& d = island.k.diag[j];
+		if (__builtin_expect(js.contact >= 0, 0))
+		{
+			assembleContactDiagonal(island, js, jb, d, trace, activeRows);
+			continue;
+		}
 		// the lower triangle only (whole storage columns: their storage rows are zero in J)
 		bool first = true;
 		for (int s = 0; s < 2; ++s)
@@ -86,12 +124,18 @@ double assemble(BlockIsland<R>& island, double regularization)
 		}
 	}
 	for (Block<R>& b : island.k.lower) b.setZero();
+	const bool contacts = !island.contacts.empty();
 	for (const Coupling& c : island.couplings)
 	{
 		const JointSlot& ji = island.joints[c.i];
 		const JointSlot& jj = island.joints[c.j];
 		Block<R>& b = island.k.lower[c.block];
 		addSideProduct<R, false, true>(b, island.blocks[c.i].jacobian, 6 * c.sideI + 3, island.blocks[c.j].h[c.sideJ]);
+		if (contacts && (ji.contact >= 0 || jj.contact >= 0))  // a contact slot's linear part is general
+		{
+			addContactLinearProduct(island, c, b);
+			continue;
+		}
 		const double sign = ji.linearSign[c.sideI] * jj.linearSign[c.sideJ];
 		if (sign != 0)
 			b.template topLeftCorner<3, 3>().diagonal() += sign * island.bodies[ji.body[c.sideI]].invMass;
@@ -102,6 +146,13 @@ double assemble(BlockIsland<R>& island, double regularization)
 	{
 		JointSlot& js = island.joints[j];
 		Block<R>& d = island.k.diag[j];
+		if (__builtin_expect(js.contact >= 0, 0))
+		{
+			for (int r = 0; r < R; ++r)
+				d(r, r) = (js.contactTouched & (1u << r)) ? d(r, r) + regularization * scale : scale;
+			js.contactActiveInFactor = js.contactTouched;
+			continue;
+		}
 		const int activeEnd = js.bilateralRows + ((js.limitSlot && js.limitActive) ? 1 : 0);
 		for (int r = 0; r < R; ++r) d(r, r) = r < activeEnd ? d(r, r) + regularization * scale : scale;
 		js.limitActiveInFactor = js.limitActive;
@@ -157,6 +208,9 @@ void accumulateDeltas(BlockIsland<R>& island)
 			if (js.body[s] < 0) continue;
 			IslandBody& b = island.bodies[js.body[s]];
 			if (js.linearSign[s] != 0) b.delta.head<3>() += js.linearSign[s] * b.invMass.cwiseProduct(lambda.template head<3>());
+			else if (js.contact >= 0)  // a contact slot's linear part is n per row, not ±I
+				b.delta.head<3>() += b.invMass.cwiseProduct(
+					jb.jacobian.template block<R, 3>(0, 6 * s).transpose() * lambda.template head<R>());
 			b.delta.tail<3>().noalias() += jb.h[s] * lambda.template head<R>();
 		}
 	}
@@ -190,6 +244,7 @@ bool solveDeltasWithoutDroppedRows(BlockIsland<R>& island, BlockVector<R> JointB
 	for (size_t j = 0; j < island.joints.size(); ++j)
 	{
 		const JointSlot& js = island.joints[j];
+		if (js.contact >= 0 && js.contactTouched != js.contactActiveInFactor) return false;  // a contact row K lacks
 		if (!js.limitSlot || js.limitActive == js.limitActiveInFactor) continue;
 		if (js.limitActive || dropped == kMaxDroppedRows) return false;  // a row K lacks, or too many out
 		joint[dropped] = int(j);

@@ -30,7 +30,10 @@
 #include <Eigen/Core>
 
 #include <memory>
+#include <unordered_map>
+#include <utility>
 
+class btCollisionObject;
 class btDynamicsWorld;
 class btRigidBody;
 class btTypedConstraint;
@@ -49,12 +52,14 @@ struct SignatureEntry
 		kMovableA = 1,
 		kMovableB = 2,
 		kAngularOnly = 4,
-		kLimitSlot = 8
+		kLimitSlot = 8,
+		kContact = 16  // a contact slot (projectContacts: IslandContacts.h): body[1] null for the fixed partners
 	};
 	btQuaternionHingeConstraint* joint;  // a quaternion hinge, or null for a point constraint
 	btTypedConstraint* point;            // a point constraint (projectPointConstraints: PointRows.h), or null
 	btRigidBody* body[2];
 	unsigned flags;
+	long long order = 0;  // a contact entry's place (scanContacts sorts by it); not part of the signature
 	bool operator==(const SignatureEntry& o) const
 	{
 		return joint == o.joint && point == o.point && body[0] == o.body[0] && body[1] == o.body[1] &&
@@ -87,16 +92,38 @@ struct IslandBody
 	btTransform saved;                  // the transform before the last Newton step (for backtracking)
 	// This step: 1, or kContactWeight when the body touches something outside its island (IslandBodies.cpp)
 	double contactScale = 1;
+	int contactSet = -1;  // its contact slot's points in Island::contacts (projectContacts), else −1
 };
 
 /// J of one joint in R-row blocks (the block's storage rows, BlockShape, are zero).
 template <int R>
 using JointJacobian = Eigen::Matrix<double, BlockShape<R>::kStorageRows, 12>;
 
+/// One contact point of a contact slot, held for the step (IslandContacts.h): C = sign·n·(p₀ − p₁), p₀ = T₀·local
+/// on the slot's body A, p₁ = T₁·other on its body B, or `other` itself (world) when B is a fixed partner.
+struct ContactRow
+{
+	btVector3 local;   // the point on the slot's body A, in its centre-of-mass frame
+	btVector3 other;   // the point on its body B: in B's centre-of-mass frame, or world for a fixed partner
+	btVector3 normal;  // world, Bullet's normal on body B of the manifold
+	btScalar sign;     // +1 when the slot's body A is the manifold's body 0, else −1: C < 0 is penetration
+};
+
+/// The contact points of one island body with fixed partners this step (at most kMaxContactRows, the deepest).
+const int kMaxContactRows = 6;
+struct ContactSet
+{
+	const btCollisionObject* body[2] = {nullptr, nullptr};  // the slot's bodies (B null: fixed partners)
+	int count = 0;
+	ContactRow rows[kMaxContactRows];
+	btScalar distance[kMaxContactRows];  // Bullet's distance of each row's point when gathered (picks the deepest)
+};
+
 struct JointSlot
 {
-	btQuaternionHingeConstraint* joint;  // null for a point constraint
+	btQuaternionHingeConstraint* joint;  // null for a point constraint or a contact slot
 	btTypedConstraint* point;            // a point constraint (PointRows.h), else null
+	int contact;                         // a contact slot: its index in Island::contacts, else −1
 	btRigidBody* rigid[2];  // A, B
 	int body[2];            // island body index of A, B; −1 for a fixed body
 	int bilateralRows;      // 5, 2 when angular-only, 3 for a point constraint
@@ -110,6 +137,9 @@ struct JointSlot
 	bool limitActive;          // the limit row is in the system (else a padding row)
 	bool limitActiveInFactor;  // … as it was when K was last factorized
 	int limitTouched;          // +1 the lower stop, −1 the upper stop was violated this step, 0 neither
+	unsigned contactTouched;        // a contact slot: bit r set once row r penetrated this step (then in the system)
+	unsigned contactReleased;       // … and bit r once row r pulled (λ < 0) and was taken out for the rest of the step
+	unsigned contactActiveInFactor; // … as it was when K was last factorized
 	btScalar linearThreshold;  // converged |C| of the linear rows (m): max(tolerance, their rounding floor)
 	btScalar angularThreshold; // … of the angular and limit rows (rad)
 	Eigen::Matrix<double, 1, 12> limitGradient;  // ∂α/∂(v_A, ω_A, v_B, ω_B) at the last evaluation
@@ -148,6 +178,7 @@ struct ProjectionResult
 	int backtracks = 0;
 	int metricSwitches = 0;
 	int activeLimitRows = 0;
+	int contactRows = 0;  // contact rows in the system at the end of the step (projectContacts)
 	int numericalIssues = 0;
 	btScalar residualBefore = 0;
 	btScalar residualAfter = 0;
@@ -174,6 +205,7 @@ struct Island
 	const int blockRows;  // R: 6 if some joint has a limit slot, else 5
 	Array<IslandBody> bodies;
 	Array<JointSlot> joints;  // in elimination order
+	Array<ContactSet> contacts;  // the contact slots' points this step (projectContacts), by JointSlot::contact
 	BlockPattern pattern;
 	Array<Coupling> couplings;
 	bool treeOrdered = false;  // BlockLDLT accepted the numbering (no fill)
@@ -192,6 +224,9 @@ struct Island
 	bool energyReferenceSet = false;
 	RestCache restCache;
 };
+
+/// Every island body by its collision object, with its island.
+using IslandBodyMap = std::unordered_map<const btCollisionObject*, std::pair<Island*, IslandBody*>>;
 
 template <int R>
 struct BlockIsland : Island
@@ -219,6 +254,7 @@ struct ProjectionSettings
 	double regularization;
 	double rotationWeight;  // the position metric's inertia factor (btQuaternionHingeStabilizerSettings)
 };
+
 
 /// Each limited joint's multi-turn angle at the step's start into JointSlot::angleReference: what the rest check
 /// compares and the projection's limit row continues from, read once per step before both.

@@ -5,6 +5,7 @@
 #include "quathinge/btQuaternionHingeErrors.h"
 
 #include "AttachedBodies.h"
+#include "IslandContacts.h"
 #include "IslandRestCache.h"
 #include "StabilizerIsland.h"
 
@@ -88,7 +89,8 @@ void btQuaternionHingeStabilizer::setSettings(const btQuaternionHingeStabilizerS
 	if (!checkSettings("setSettings", settings)) return;
 	// projectLimits and solver change the islands' structure.
 	if (settings.projectLimits != m_settings.projectLimits || settings.solver != m_settings.solver ||
-		settings.projectPointConstraints != m_settings.projectPointConstraints)
+		settings.projectPointConstraints != m_settings.projectPointConstraints ||
+		settings.projectContacts != m_settings.projectContacts)
 		invalidateStructure();
 	// a kept projection was made with the old settings
 	for (const auto& island : m_impl->islands) forgetProjection(*island);
@@ -124,6 +126,7 @@ const btQuaternionHingeStabilizerStats& btQuaternionHingeStabilizer::stabilize(b
 	Impl& impl = *m_impl;
 	m_stats.filteredJoints = scanWorld(*world, m_settings.projectLimits, m_settings.projectPointConstraints, m_filter,
 									   impl.upcasts, impl.scan);
+	if (m_settings.projectContacts) scanContacts(*world->getDispatcher(), impl.scan);
 	if (!impl.built || impl.scan.size() != impl.signature.size() ||
 		!std::equal(impl.scan.begin(), impl.scan.end(), impl.signature.begin()))
 	{
@@ -172,6 +175,7 @@ const btQuaternionHingeStabilizerStats& btQuaternionHingeStabilizer::stabilize(b
 			if (islandB && islandB != islandA) b->second.second->contactScale = kContactWeight;
 		}
 	}
+	if (m_settings.projectContacts) gatherContacts(*world->getDispatcher(), impl.bodyOf);
 	impl.attached.clear();  // keeps its capacity: no allocation the next step
 	if (m_settings.moveAttachedBodies || m_settings.closeAttachedConstraints)
 		for (const auto& island : impl.islands)
@@ -206,6 +210,7 @@ const btQuaternionHingeStabilizerStats& btQuaternionHingeStabilizer::stabilize(b
 		m_stats.backtracks += r.backtracks;
 		m_stats.metricSwitches += r.metricSwitches;
 		m_stats.activeLimitRows += r.activeLimitRows;
+		m_stats.contactRows += r.contactRows;
 		m_stats.numericalIssues += r.numericalIssues;
 		m_stats.residualBefore = std::max(m_stats.residualBefore, r.residualBefore);
 		m_stats.residualAfter = std::max(m_stats.residualAfter, r.residualAfter);

@@ -1,0 +1,141 @@
+// Contacts as rows of the projection: which bodies get a contact slot, and their points each step (IslandContacts.h).
+#include "IslandContacts.h"
+
+#include "BulletCollision/BroadphaseCollision/btDispatcher.h"
+#include "BulletCollision/NarrowPhaseCollision/btPersistentManifold.h"
+
+#include <algorithm>
+
+namespace quathinge
+{
+namespace stabilizer
+{
+namespace
+{
+// The manifold's two bodies as rigid bodies (null for another kind of collision object: a ghost, a soft body).
+const btRigidBody* rigidOf(const btCollisionObject* o) { return btRigidBody::upcast(o); }
+
+// A partner whose contact points are fixed for the step: static, or asleep (a kinematic body moves during the step,
+// and a movable one is not fixed at all: neither is a row).
+bool isFixedPartner(const btRigidBody& body) { return !isMovable(body) && !body.isKinematicObject(); }
+}  // namespace
+
+void scanContacts(btDispatcher& dispatcher, Array<SignatureEntry>& scan)
+{
+	// the movable bodies of the joints, numbered by first appearance (the scan's order, not the pointers')
+	const size_t joints = scan.size();
+	auto firstIndex = [&](const btRigidBody* body) {
+		for (size_t i = 0; i < joints; ++i)
+			for (int s = 0; s < 2; ++s)
+				if (scan[i].body[s] == body && (scan[i].flags & (s == 0 ? SignatureEntry::kMovableA : SignatureEntry::kMovableB)))
+					return (long long)(2 * i + size_t(s));
+		return -1LL;
+	};
+	const long long kPairs = 1LL << 50;  // a pair's key: its two bodies' indices, after every fixed-partner slot
+	for (int m = 0; m < dispatcher.getNumManifolds(); ++m)
+	{
+		const btPersistentManifold* manifold = dispatcher.getManifoldByIndexInternal(m);
+		if (manifold->getNumContacts() == 0) continue;
+		const btRigidBody* body[2] = {rigidOf(manifold->getBody0()), rigidOf(manifold->getBody1())};
+		if (!body[0] || !body[1]) continue;
+		const long long index[2] = {firstIndex(body[0]), firstIndex(body[1])};
+		SignatureEntry e;
+		e.joint = nullptr;
+		e.point = nullptr;
+		if (index[0] >= 0 && index[1] >= 0)
+		{
+			// two island bodies: a pair slot, its body A the one that comes first
+			const int first = index[0] < index[1] ? 0 : 1;
+			e.body[0] = const_cast<btRigidBody*>(body[first]);
+			e.body[1] = const_cast<btRigidBody*>(body[1 - first]);
+			e.flags = SignatureEntry::kMovableA | SignatureEntry::kMovableB | SignatureEntry::kContact;
+			e.order = kPairs + index[first] * (1LL << 24) + index[1 - first];
+		}
+		else
+		{
+			// an island body and a fixed partner: the body's slot for all its fixed partners
+			const int s = index[0] >= 0 ? 0 : 1;
+			if (index[s] < 0 || !isFixedPartner(*body[1 - s])) continue;  // neither, or a movable body outside
+			e.body[0] = const_cast<btRigidBody*>(body[s]);
+			e.body[1] = nullptr;
+			e.flags = SignatureEntry::kMovableA | SignatureEntry::kContact;
+			e.order = index[s];
+		}
+		bool known = false;
+		for (size_t i = joints; i < scan.size() && !known; ++i) known = scan[i].order == e.order;
+		if (!known) scan.push_back(e);
+	}
+	// in the order of the bodies' first appearance among the joints (the dispatcher's order of manifolds changes as
+	// they come and go)
+	std::sort(scan.begin() + std::ptrdiff_t(joints), scan.end(),
+			  [](const SignatureEntry& a, const SignatureEntry& b) { return a.order < b.order; });
+}
+
+void gatherContacts(btDispatcher& dispatcher, const IslandBodyMap& bodyOf)
+{
+	for (const auto& entry : bodyOf)
+		for (ContactSet& set : entry.second.first->contacts) set.count = 0;
+	for (int m = 0; m < dispatcher.getNumManifolds(); ++m)
+	{
+		const btPersistentManifold* manifold = dispatcher.getManifoldByIndexInternal(m);
+		if (manifold->getNumContacts() == 0) continue;
+		const btRigidBody* body[2] = {rigidOf(manifold->getBody0()), rigidOf(manifold->getBody1())};
+		if (!body[0] || !body[1]) continue;
+		const auto found0 = bodyOf.find(body[0]), found1 = bodyOf.find(body[1]);
+		const bool in[2] = {found0 != bodyOf.end(), found1 != bodyOf.end()};
+		// the slot: a pair's (both island bodies), or the island body's slot for its fixed partners
+		Island* island = nullptr;
+		ContactSet* set = nullptr;
+		int a = 0;  // the manifold's side that is the slot's body A
+		if (in[0] && in[1])
+		{
+			island = found0->second.first;
+			for (ContactSet& c : island->contacts)
+				if ((c.body[0] == body[0] && c.body[1] == body[1]) || (c.body[0] == body[1] && c.body[1] == body[0]))
+				{
+					set = &c;
+					a = c.body[0] == body[0] ? 0 : 1;
+				}
+		}
+		else if (in[0] != in[1])
+		{
+			a = in[0] ? 0 : 1;
+			if (!isFixedPartner(*body[1 - a])) continue;
+			const auto& found = a == 0 ? found0 : found1;
+			island = found->second.first;
+			if (found->second.second->contactSet >= 0) set = &island->contacts[size_t(found->second.second->contactSet)];
+		}
+		if (!set) continue;
+		const bool fixedB = set->body[1] == nullptr;
+		const int capacity = std::min(island->blockRows, kMaxContactRows);
+		for (int p = 0; p < manifold->getNumContacts(); ++p)
+		{
+			const btManifoldPoint& point = manifold->getContactPoint(p);
+			const btScalar distance = point.getDistance();
+			// the deepest `capacity` points: a new one takes the place of the shallowest kept one if it is deeper
+			int at = -1;
+			if (set->count < capacity) at = set->count++;
+			else
+			{
+				btScalar shallowest = distance;
+				for (int k = 0; k < set->count; ++k)
+					if (set->distance[k] > shallowest)
+					{
+						shallowest = set->distance[k];
+						at = k;
+					}
+			}
+			if (at < 0) continue;
+			ContactRow& row = set->rows[at];
+			row.local = a == 0 ? point.m_localPointA : point.m_localPointB;
+			if (fixedB) row.other = a == 0 ? point.getPositionWorldOnB() : point.getPositionWorldOnA();
+			else row.other = a == 0 ? point.m_localPointB : point.m_localPointA;
+			row.normal = point.m_normalWorldOnB;
+			row.sign = a == 0 ? btScalar(1) : btScalar(-1);
+			set->distance[at] = distance;
+		}
+	}
+}
+
+}  // namespace stabilizer
+}  // namespace quathinge

@@ -1,0 +1,111 @@
+// Contacts as rows of the projection (btQuaternionHingeStabilizerSettings::projectContacts; docs/MATH.md, "Contacts in
+// the projection"). Without them the projection closes the joints and does not see the ground: Bullet's next
+// 10-iteration solve then leaves its unconverged residual in the contacts, and resting ragdolls sink deeper than in the
+// world without the stabilizer (README, "Mixed ragdolls").
+//
+// Slots: an island body that touches a fixed body (static or asleep; not kinematic, which moves within the step) gets
+// one contact slot, a
+// joint of R rows (the island's block size) to that fixed side, so the island stays a tree (a leaf edge, eliminated
+// first) and BlockLDLT factorizes it without fill. Which bodies have a slot is part of the signature (a body that
+// starts or stops touching rebuilds the islands); contacts with movable bodies are not rows (not fixed for the step).
+// Rows: at the step's start the slot takes its body's deepest manifold points (at most R) against fixed partners,
+// held for the step: row r is C_r = sign_r n_r·(p_r − q_r) (p_r on the slot's body A, q_r on its body B or the fixed
+// partner, n_r Bullet's normal on the manifold's body B, sign_r +1 when the slot's body A is the manifold's body A),
+// negative when penetrating, with J_r = sign_r (n_r, a_r × n_r | −n_r, −b_r × n_r), a_r, b_r the points' arms. One-sided by an active set that only grows within a step (as the
+// limit rows): a row enters the system once it is found penetrating by more than its tolerance and then holds C_r = 0
+// for the rest of the step, in the position stage and in the velocity stage (where n·v = 0 removes both the approach
+// and the push-out velocity Bullet's solver gave a penetration the projection has already removed). Inactive rows are
+// zero rows with s on K's diagonal. Their linear part is n, not the point rows' ±I: the assembly and the deltas take
+// the general product for contact slots (IslandSystem.h).
+#ifndef QUATHINGE_STABILIZER_ISLAND_CONTACTS_H
+#define QUATHINGE_STABILIZER_ISLAND_CONTACTS_H
+
+#include "StabilizerIsland.h"
+
+#include "BulletDynamics/Dynamics/btRigidBody.h"
+
+
+class btDispatcher;
+
+namespace quathinge
+{
+namespace stabilizer
+{
+/// Appends a contact entry (SignatureEntry::kContact) for every body that `scan`'s joints hold as movable and that has
+/// a manifold point against a body that is not movable, in the order of the bodies' first appearance in the scan.
+void scanContacts(btDispatcher& dispatcher, Array<SignatureEntry>& scan);
+
+/// Fills every contact slot's ContactSet with its body's deepest points against fixed partners, now.
+void gatherContacts(btDispatcher& dispatcher, const IslandBodyMap& bodyOf);
+
+/// The contact slot's rows at its bodies' current transforms into C and J (rows of the block), growing the active set
+/// with rows penetrating by more than `threshold` (unless taken out this step). Returns the largest |C| of the active
+/// rows.
+template <int R>
+btScalar evaluateContactRows(const Island& island, JointSlot& js, JointBlock<R>& jb, btScalar threshold)
+{
+	const ContactSet& set = island.contacts[size_t(js.contact)];
+	const btTransform& t = js.rigid[0]->getCenterOfMassTransform();
+	const btTransform* tB = js.rigid[1] ? &js.rigid[1]->getCenterOfMassTransform() : nullptr;  // null: fixed partners
+	btScalar worst = 0;
+	for (int r = 0; r < R; ++r)
+	{
+		if (r < set.count)
+		{
+			const ContactRow& row = set.rows[r];
+			const btVector3 arm = t.getBasis() * row.local;
+			const btVector3 armB = tB ? tB->getBasis() * row.other : btVector3(0, 0, 0);
+			const btVector3 onB = tB ? tB->getOrigin() + armB : row.other;
+			const btScalar c = row.sign * row.normal.dot((t.getOrigin() + arm) - onB);
+			if (c < -threshold && !(js.contactReleased & (1u << r))) js.contactTouched |= 1u << r;
+			if (js.contactTouched & (1u << r))
+			{
+				const btVector3 n = row.sign * row.normal, angular = arm.cross(n), angularB = armB.cross(n);
+				for (int k = 0; k < 3; ++k)
+				{
+					jb.jacobian(r, k) = n[k];
+					jb.jacobian(r, 3 + k) = angular[k];
+					if (!tB) continue;
+					jb.jacobian(r, 6 + k) = -n[k];
+					jb.jacobian(r, 9 + k) = -angularB[k];
+				}
+				jb.c[r] = c;
+				worst = btMax(worst, btFabs(c));
+				continue;
+			}
+		}
+		jb.jacobian.row(r).setZero();
+		jb.c[r] = 0;
+	}
+	return worst;
+}
+
+/// After a solve (λ in island.lambda): takes out of the system every contact row whose λ pulls (λ < 0: the row would
+/// hold its body down, the other rows lift it off) for the rest of the step. True if it took any out (then K must be
+/// factorized again and the solve repeated).
+template <int R>
+bool releasePullingContacts(BlockIsland<R>& island)
+{
+	bool released = false;
+	for (size_t j = 0; j < island.joints.size(); ++j)
+	{
+		JointSlot& js = island.joints[j];
+		if (js.contact < 0) continue;
+		for (int r = 0; r < R; ++r)
+			if ((js.contactTouched & (1u << r)) && island.lambda[j][r] < 0)
+			{
+				js.contactTouched &= ~(1u << r);
+				js.contactReleased |= 1u << r;
+				island.blocks[j].jacobian.row(r).setZero();
+				island.blocks[j].c[r] = 0;
+				island.blocks[j].jv[r] = 0;
+				released = true;
+			}
+	}
+	return released;
+}
+
+}  // namespace stabilizer
+}  // namespace quathinge
+
+#endif
