@@ -3,20 +3,24 @@
 // 10-iteration solve then leaves its unconverged residual in the contacts, and resting ragdolls sink deeper than in the
 // world without the stabilizer (README, "Mixed ragdolls").
 //
-// Slots: an island body that touches a fixed body (static or asleep; not kinematic, which moves within the step) gets
-// one contact slot, a
-// joint of R rows (the island's block size) to that fixed side, so the island stays a tree (a leaf edge, eliminated
-// first) and BlockLDLT factorizes it without fill. Which bodies have a slot is part of the signature (a body that
-// starts or stops touching rebuilds the islands); contacts with movable bodies are not rows (not fixed for the step).
-// Rows: at the step's start the slot takes its body's deepest manifold points (at most R) against fixed partners,
-// held for the step: row r is C_r = sign_r n_r·(p_r − q_r) (p_r on the slot's body A, q_r on its body B or the fixed
-// partner, n_r Bullet's normal on the manifold's body B, sign_r +1 when the slot's body A is the manifold's body A),
-// negative when penetrating, with J_r = sign_r (n_r, a_r × n_r | −n_r, −b_r × n_r), a_r, b_r the points' arms. One-sided by an active set that only grows within a step (as the
-// limit rows): a row enters the system once it is found penetrating by more than its tolerance and then holds C_r = 0
-// for the rest of the step, in the position stage and in the velocity stage (where n·v = 0 removes both the approach
-// and the push-out velocity Bullet's solver gave a penetration the projection has already removed). Inactive rows are
-// zero rows with s on K's diagonal. Their linear part is n, not the point rows' ±I: the assembly and the deltas take
-// the general product for contact slots (IslandSystem.h).
+// Slots: an island body that touches fixed bodies (static or asleep; not kinematic, which moves within the step) gets
+// one contact slot for them all, a joint of R rows (the island's block size) to a fixed side: a leaf edge, so a tree
+// stays a tree (eliminated first) and BlockLDLT factorizes it without fill. Two island bodies that touch get a pair
+// slot, a joint between them: it joins their islands and usually closes a loop (then SparseLDLT solves the island).
+// Which slots exist is part of the signature: a body that starts or stops touching rebuilds the islands (keeping a
+// slot while its manifold lasts, points or none, was measured: fewer rebuilds, but the idle slots and their loops cost
+// more than the rebuilds saved, 1.4 s against 0.95 s on the ragdolls of tests/test_stabilizer_mixed.cpp). Contacts with
+// kinematic bodies and with movable bodies that no projected joint holds are not rows.
+// Rows: at the step's start a slot takes its bodies' deepest manifold points (at most R), held for the step: row r is
+// C_r = s_r n_r·(p_r − q_r) (p_r on the slot's body A, q_r on its body B or the fixed partner, n_r Bullet's normal on
+// the manifold's body B, s_r +1 when the slot's body A is the manifold's body A), Bullet's distance, negative when
+// penetrating, with J_r = s_r (n_r, a_r × n_r | −n_r, −b_r × n_r), a_r, b_r the points' arms in world.
+// One-sided, by an active set: a row enters the system once its point penetrates by more than its tolerance and then
+// holds C_r = 0 in the position stage and n·v_rel = 0 in the velocity stage (which removes the approach and the push-out
+// velocity Bullet's solver gave a penetration the projection has already removed); after a solve, a row whose
+// multiplier pulls (λ_r < 0: the other rows would lift the body off) leaves the system for the rest of the step and K is
+// factorized again (releasePullingContacts). Inactive rows are zero rows with s on K's diagonal. Their linear part is
+// n, not the point rows' ±I: the assembly and the deltas take the general product for contact slots (IslandSystem.h).
 #ifndef QUATHINGE_STABILIZER_ISLAND_CONTACTS_H
 #define QUATHINGE_STABILIZER_ISLAND_CONTACTS_H
 
@@ -24,18 +28,18 @@
 
 #include "BulletDynamics/Dynamics/btRigidBody.h"
 
-
 class btDispatcher;
 
 namespace quathinge
 {
 namespace stabilizer
 {
-/// Appends a contact entry (SignatureEntry::kContact) for every body that `scan`'s joints hold as movable and that has
-/// a manifold point against a body that is not movable, in the order of the bodies' first appearance in the scan.
+/// Appends the contact entries (SignatureEntry::kContact) to `scan`'s joints: a fixed-partner slot for every island
+/// body with a manifold point against a fixed partner, a pair slot for every two island bodies with one, in the order
+/// of the bodies' first appearance among the joints (not the dispatcher's order of manifolds, which changes).
 void scanContacts(btDispatcher& dispatcher, Array<SignatureEntry>& scan);
 
-/// Fills every contact slot's ContactSet with its body's deepest points against fixed partners, now.
+/// Fills every contact slot's ContactSet with its bodies' deepest manifold points, now.
 void gatherContacts(btDispatcher& dispatcher, const IslandBodyMap& bodyOf);
 
 /// The contact slot's rows at its bodies' current transforms into C and J (rows of the block), growing the active set

@@ -109,7 +109,8 @@ struct ContactRow
 	btScalar sign;     // +1 when the slot's body A is the manifold's body 0, else −1: C < 0 is penetration
 };
 
-/// The contact points of one island body with fixed partners this step (at most kMaxContactRows, the deepest).
+/// The contact points of one contact slot this step (at most kMaxContactRows, the deepest): an island body with its
+/// fixed partners, or two island bodies.
 const int kMaxContactRows = 6;
 struct ContactSet
 {
