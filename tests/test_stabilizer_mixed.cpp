@@ -14,6 +14,7 @@
 #include <cmath>
 #include <cstdio>
 #include <memory>
+#include <utility>
 #include <vector>
 
 using namespace qh_test;
@@ -287,6 +288,18 @@ Figures meanOver(Kind kind, int variants, int steps)
 	}
 	return mean;
 }
+
+// The bare quaternion world's figures and those of `kind`, each the mean over the same 8 spins of 4 s at 60 Hz (the
+// fall, the landing and the ragdolls at rest), printed.
+std::pair<Figures, Figures> bareAnd(Kind kind, const char* label)
+{
+	const int steps = 240, variants = 8;
+	const Figures bare = meanOver(Kind::Quaternion, variants, steps);
+	const Figures other = meanOver(kind, variants, steps);
+	print("quaternion", bare);
+	print(label, other);
+	return {bare, other};
+}
 }  // namespace
 
 TEST(StabilizerMixed, RagdollDemoWithConeTwistsIsNoWorseWithTheStabilizer)
@@ -326,12 +339,7 @@ TEST(StabilizerMixed, RagdollDemoWithItsConeTwistsProjectedHoldsEveryJoint)
 	// one: measured over 32 spins (README, "Mixed ragdolls"), the late ground penetration is 7.8e-3 m in float
 	// against 4.3e-3 bare and 5.7e-3 with the hinges alone. The contact bounds here guard that measurement (the same
 	// 8-spin sample as the test above), they do not claim "no worse".
-	const int steps = 240;
-	const int variants = 8;
-	const Figures bare = meanOver(Kind::Quaternion, variants, steps);
-	const Figures points = meanOver(Kind::QuaternionStabilizedPoints, variants, steps);
-	print("quaternion", bare);
-	print("q+stab+points", points);
+	const auto [bare, points] = bareAnd(Kind::QuaternionStabilizedPoints, "q+stab+points");
 	EXPECT_LE(points.coneSeparation, kSeparationTolerance);
 	EXPECT_LE(points.hingeSeparation, kSeparationTolerance);
 	EXPECT_LE(points.hingeSeparationEnd, kSeparationTolerance);
@@ -350,12 +358,7 @@ TEST(StabilizerMixed, RagdollDemoWithItsContactsProjectedRestsShallowerThanWitho
 	// error (measured over 32 spins in float, README "Mixed ragdolls": late ground penetration 1.8e-3 m against
 	// 4.3e-3 bare, late part-part 1.6e-4 against 1.0e-3). Every figure is held to the "no worse" bounds of the first
 	// test, every joint to the stabilizer's tolerance, and at rest the ragdolls sink less deep than without it.
-	const int steps = 240;
-	const int variants = 8;
-	const Figures bare = meanOver(Kind::Quaternion, variants, steps);
-	const Figures contacts = meanOver(Kind::QuaternionStabilizedContacts, variants, steps);
-	print("quaternion", bare);
-	print("q+stab+contacts", contacts);
+	const auto [bare, contacts] = bareAnd(Kind::QuaternionStabilizedContacts, "q+stab+contacts");
 	EXPECT_LE(contacts.coneSeparation, kSeparationTolerance);
 	EXPECT_LE(contacts.hingeSeparation, kSeparationTolerance);
 	const double kNotWorse = 1.2;  // ratio, as in the first test
