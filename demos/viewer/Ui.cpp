@@ -1,6 +1,9 @@
 // The viewer's Dear ImGui layer (Viewer.h): each pane's label (its kind and figures), the control panel (scene, kinds,
-// time step, iterations, pause, single step, reset) and the live plots of separation, misalignment and energy.
+// the stabilizer's optional parts, time step, iterations, pause, single step, reset) and the live plots of separation,
+// misalignment and energy.
 #include "Viewer.h"
+
+#include "quathinge/btQuaternionHingeStabilizer.h"
 
 #include <imgui.h>
 
@@ -71,6 +74,12 @@ void Viewer::panel()
 			m_resetRequested = true;
 		}
 	}
+	// the stabilizer's optional parts (quaternion+stab panes), applied at once
+	bool changed = ImGui::Checkbox("stab: point constraints", &m_projectPoints);
+	changed |= ImGui::Checkbox("stab: contacts", &m_projectContacts);
+	changed |= ImGui::Checkbox("stab: carry attached", &m_moveAttached);
+	changed |= ImGui::Checkbox("stab: close attached", &m_closeAttached);
+	if (changed) applyStabilizerOptions();
 	ImGui::SliderFloat("dt (s)", &m_dt, 1.0f / 480, 1.0f / 30, "%.4f");
 	ImGui::SliderInt("iterations", &m_iterations, 1, 100);
 	ImGui::Checkbox("pause", &m_paused);
@@ -89,6 +98,21 @@ void Viewer::panel()
 	}
 	ImGui::TextWrapped("left drag: pick and drag a body; right drag: orbit; wheel: zoom");
 	ImGui::End();
+}
+
+void Viewer::applyStabilizerOptions()
+{
+	for (Pane& p : m_panes)
+	{
+		btQuaternionHingeStabilizer* stabilizer = p.sim ? p.sim->stabilizer() : nullptr;
+		if (!stabilizer) continue;
+		btQuaternionHingeStabilizerSettings settings = stabilizer->getSettings();
+		settings.projectPointConstraints = m_projectPoints;
+		settings.projectContacts = m_projectContacts;
+		settings.moveAttachedBodies = m_moveAttached;
+		settings.closeAttachedConstraints = m_closeAttached;
+		stabilizer->setSettings(settings);
+	}
 }
 
 void Viewer::plot(const char* label, const std::deque<float>& d)

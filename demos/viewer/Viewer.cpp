@@ -98,6 +98,7 @@ void Viewer::reset()
 			p.error = spec.unavailable;
 		m_panes.push_back(std::move(p));
 	}
+	applyStabilizerOptions();
 	frameCamera();
 }
 

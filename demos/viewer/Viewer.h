@@ -108,6 +108,9 @@ private:
 	double m_lastX = 0, m_lastY = 0;
 	int m_pickPane = 0;
 	int m_left = 0;  // px: the panel's column, left of the panes
+	// The stabilizer's optional parts (btQuaternionHingeStabilizerSettings), set on every pane with a stabilizer
+	bool m_projectPoints = false, m_projectContacts = false, m_moveAttached = false, m_closeAttached = false;
+	void applyStabilizerOptions();
 	static const int kPanelWidth = 330;
 };
 
