@@ -277,6 +277,8 @@ struct StepScene
 	// > 0: the stabilizer projects only the joints of the scene's first `heroBodies` bodies (setFilter): one ragdoll
 	// of a crowd, what an app stabilizes when only its hero needs it
 	int heroBodies = 0;
+	// the stabilizer also projects the contacts (projectContacts), and with them the point constraints
+	bool projectContacts = false;
 };
 
 // Keeps the joints that hold one of the hero's bodies.
@@ -305,6 +307,12 @@ void benchStep(benchmark::State& state, const StepScene* spec, Kind kind)
 		return;
 	}
 	Simulation& sim = *built;
+	if (spec->projectContacts && sim.stabilizer())
+	{
+		btQuaternionHingeStabilizerSettings settings = sim.stabilizer()->getSettings();
+		settings.projectContacts = settings.projectPointConstraints = true;
+		sim.stabilizer()->setSettings(settings);
+	}
 	HeroFilter heroFilter;
 	if (spec->heroBodies > 0 && sim.stabilizer())
 	{
@@ -383,6 +391,13 @@ void registerAll()
 				 return crowd;
 			 }(),
 			 60, 150, false, int(ragdollScene(1).bodies.size())},
+			// the same crowd with the contacts projected too (projectContacts: ground and part against part)
+			{[] {
+				 SceneSpec crowd = ragdollCrowd(100);
+				 crowd.name += "_contacts";
+				 return crowd;
+			 }(),
+			 60, 150, false, 0, true},
 			{restScene(50, 10, false), 180, 300, false},
 			{restScene(50, 10, true), 180, 300, false},
 		};
