@@ -221,8 +221,10 @@ bool prepareBlocks(BlockIsland<R>& island)
 }
 }  // namespace
 
-void buildIslands(const Array<SignatureEntry>& scan, bool forceSparse,
-				  Array<std::unique_ptr<Island>>& islands)
+namespace
+{
+// Every island of the scan, built from nothing (into `islands`, cleared first).
+void buildAll(const Array<SignatureEntry>& scan, bool forceSparse, Array<std::unique_ptr<Island>>& islands)
 {
 	islands.clear();
 	// Movable bodies, numbered in scan order.
@@ -332,6 +334,61 @@ void buildIslands(const Array<SignatureEntry>& scan, bool forceSparse,
 			island.sparse.reset(new SparseLDLT);
 			island.sparse->analyze(island.pattern);
 		}
+	}
+}
+}  // namespace
+
+void buildIslands(const Array<SignatureEntry>& scan, bool forceSparse, Array<std::unique_ptr<Island>>& islands)
+{
+	// The scan's entries by island (union-find over their movable bodies, as buildAll), in the order of each island's
+	// first entry: the order buildAll gives the islands, with each island's entries in scan order.
+	std::unordered_map<const btRigidBody*, int> bodyIndex;
+	Array<int> parent;
+	const unsigned movableFlag[2] = {SignatureEntry::kMovableA, SignatureEntry::kMovableB};
+	Array<int> firstBody(scan.size(), -1);
+	for (size_t i = 0; i < scan.size(); ++i)
+		for (int s = 0; s < 2; ++s)
+			if (scan[i].flags & movableFlag[s])
+			{
+				const auto found = bodyIndex.emplace(scan[i].body[s], int(parent.size()));
+				if (found.second) parent.push_back(int(parent.size()));
+				const int b = found.first->second;
+				if (firstBody[i] < 0) firstBody[i] = b;
+				else parent[size_t(findRoot(parent, b))] = findRoot(parent, firstBody[i]);
+			}
+	std::unordered_map<int, int> groupOf;  // root → group
+	Array<Array<SignatureEntry>> groups;
+	for (size_t i = 0; i < scan.size(); ++i)
+	{
+		const auto found = groupOf.emplace(findRoot(parent, firstBody[i]), int(groups.size()));
+		if (found.second) groups.emplace_back();
+		groups[size_t(found.first->second)].push_back(scan[i]);
+	}
+	// An island whose entries are unchanged is kept (no allocation, no analysis) and reset to a fresh one's state (its
+	// kept projection and energy reference are forgotten, so every island steps as if all were rebuilt); the others
+	// are built. A contact that comes or goes (projectContacts) rebuilds its own island, not the world's.
+	Array<std::unique_ptr<Island>> old;
+	old.swap(islands);
+	for (Array<SignatureEntry>& entries : groups)
+	{
+		std::unique_ptr<Island> island;
+		for (std::unique_ptr<Island>& o : old)
+			if (o && o->entries.size() == entries.size() && std::equal(entries.begin(), entries.end(), o->entries.begin()))
+			{
+				island = std::move(o);
+				island->restCache.valid = false;
+				island->energyReferenceSet = false;
+				break;
+			}
+		if (!island)
+		{
+			Array<std::unique_ptr<Island>> built;
+			buildAll(entries, forceSparse, built);
+			btAssert(built.size() == 1);
+			island = std::move(built[0]);
+			island->entries.swap(entries);
+		}
+		islands.push_back(std::move(island));
 	}
 }
 

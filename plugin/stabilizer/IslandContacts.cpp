@@ -20,55 +20,60 @@ const btRigidBody* rigidOf(const btCollisionObject* o) { return btRigidBody::upc
 bool isFixedPartner(const btRigidBody& body) { return !isMovable(body) && !body.isKinematicObject(); }
 }  // namespace
 
-void scanContacts(btDispatcher& dispatcher, Array<SignatureEntry>& scan)
+void scanContacts(btDispatcher& dispatcher, Array<SignatureEntry>& scan, Array<std::pair<const btRigidBody*, long long>>& index)
 {
-	// the movable bodies of the joints, numbered by first appearance (the scan's order, not the pointers')
+	// the movable bodies of the joints, numbered by first appearance (the scan's order, not the pointers'), found by
+	// binary search in `index` (sorted by pointer; kept by the caller, so its capacity stays)
 	const size_t joints = scan.size();
+	index.clear();
+	for (size_t i = 0; i < joints; ++i)
+		for (int s = 0; s < 2; ++s)
+			if (scan[i].flags & (s == 0 ? SignatureEntry::kMovableA : SignatureEntry::kMovableB))
+				index.push_back({scan[i].body[s], (long long)(2 * i + size_t(s))});
+	// by pointer, then by first appearance: the first entry of a pointer is its body's number
+	std::sort(index.begin(), index.end());
 	auto firstIndex = [&](const btRigidBody* body) {
-		for (size_t i = 0; i < joints; ++i)
-			for (int s = 0; s < 2; ++s)
-				if (scan[i].body[s] == body && (scan[i].flags & (s == 0 ? SignatureEntry::kMovableA : SignatureEntry::kMovableB)))
-					return (long long)(2 * i + size_t(s));
-		return -1LL;
+		const auto at = std::lower_bound(index.begin(), index.end(), std::make_pair(body, -1LL));
+		return at != index.end() && at->first == body ? at->second : -1LL;
 	};
-	const long long kPairs = 1LL << 50;  // a pair's key: its two bodies' indices, after every fixed-partner slot
+	const long long kPairs = 1LL << 50;  // a pair's key: its two bodies' numbers, after every fixed-partner slot
 	for (int m = 0; m < dispatcher.getNumManifolds(); ++m)
 	{
 		const btPersistentManifold* manifold = dispatcher.getManifoldByIndexInternal(m);
 		if (manifold->getNumContacts() == 0) continue;
 		const btRigidBody* body[2] = {rigidOf(manifold->getBody0()), rigidOf(manifold->getBody1())};
 		if (!body[0] || !body[1]) continue;
-		const long long index[2] = {firstIndex(body[0]), firstIndex(body[1])};
+		const long long number[2] = {firstIndex(body[0]), firstIndex(body[1])};
 		SignatureEntry e;
 		e.joint = nullptr;
 		e.point = nullptr;
-		if (index[0] >= 0 && index[1] >= 0)
+		if (number[0] >= 0 && number[1] >= 0)
 		{
 			// two island bodies: a pair slot, its body A the one that comes first
-			const int first = index[0] < index[1] ? 0 : 1;
+			const int first = number[0] < number[1] ? 0 : 1;
 			e.body[0] = const_cast<btRigidBody*>(body[first]);
 			e.body[1] = const_cast<btRigidBody*>(body[1 - first]);
 			e.flags = SignatureEntry::kMovableA | SignatureEntry::kMovableB | SignatureEntry::kContact;
-			e.order = kPairs + index[first] * (1LL << 24) + index[1 - first];
+			e.order = kPairs + number[first] * (1LL << 24) + number[1 - first];
 		}
 		else
 		{
 			// an island body and a fixed partner: the body's slot for all its fixed partners
-			const int s = index[0] >= 0 ? 0 : 1;
-			if (index[s] < 0 || !isFixedPartner(*body[1 - s])) continue;  // neither, or a movable body outside
+			const int s = number[0] >= 0 ? 0 : 1;
+			if (number[s] < 0 || !isFixedPartner(*body[1 - s])) continue;  // neither, or a movable body outside
 			e.body[0] = const_cast<btRigidBody*>(body[s]);
 			e.body[1] = nullptr;
 			e.flags = SignatureEntry::kMovableA | SignatureEntry::kContact;
-			e.order = index[s];
+			e.order = number[s];
 		}
-		bool known = false;
-		for (size_t i = joints; i < scan.size() && !known; ++i) known = scan[i].order == e.order;
-		if (!known) scan.push_back(e);
+		scan.push_back(e);
 	}
 	// in the order of the bodies' first appearance among the joints (the dispatcher's order of manifolds changes as
-	// they come and go)
-	std::sort(scan.begin() + std::ptrdiff_t(joints), scan.end(),
-			  [](const SignatureEntry& a, const SignatureEntry& b) { return a.order < b.order; });
+	// they come and go), each slot once (a body with several fixed partners, two manifolds of one pair)
+	const auto first = scan.begin() + std::ptrdiff_t(joints);
+	std::sort(first, scan.end(), [](const SignatureEntry& a, const SignatureEntry& b) { return a.order < b.order; });
+	scan.erase(std::unique(first, scan.end(), [](const SignatureEntry& a, const SignatureEntry& b) { return a.order == b.order; }),
+			   scan.end());
 }
 
 void gatherContacts(btDispatcher& dispatcher, const IslandBodyMap& bodyOf)

@@ -7,7 +7,7 @@
 // one contact slot for them all, a joint of R rows (the island's block size) to a fixed side: a leaf edge, so a tree
 // stays a tree (eliminated first) and BlockLDLT factorizes it without fill. Two island bodies that touch get a pair
 // slot, a joint between them: it joins their islands and usually closes a loop (then SparseLDLT solves the island).
-// Which slots exist is part of the signature: a body that starts or stops touching rebuilds the islands (keeping a
+// Which slots exist is part of the signature: a body that starts or stops touching rebuilds its island (keeping a
 // slot while its manifold lasts, points or none, was measured: fewer rebuilds, but the idle slots and their loops cost
 // more than the rebuilds saved, 1.4 s against 0.95 s on the ragdolls of tests/test_stabilizer_mixed.cpp). Contacts with
 // kinematic bodies and with movable bodies that no projected joint holds are not rows.
@@ -28,6 +28,8 @@
 
 #include "BulletDynamics/Dynamics/btRigidBody.h"
 
+#include <utility>
+
 class btDispatcher;
 
 namespace quathinge
@@ -37,7 +39,8 @@ namespace stabilizer
 /// Appends the contact entries (SignatureEntry::kContact) to `scan`'s joints: a fixed-partner slot for every island
 /// body with a manifold point against a fixed partner, a pair slot for every two island bodies with one, in the order
 /// of the bodies' first appearance among the joints (not the dispatcher's order of manifolds, which changes).
-void scanContacts(btDispatcher& dispatcher, Array<SignatureEntry>& scan);
+/// `index`: scratch, kept by the caller (no allocation once it has grown).
+void scanContacts(btDispatcher& dispatcher, Array<SignatureEntry>& scan, Array<std::pair<const btRigidBody*, long long>>& index);
 
 /// Fills every contact slot's ContactSet with its bodies' deepest manifold points, now.
 void gatherContacts(btDispatcher& dispatcher, const IslandBodyMap& bodyOf);

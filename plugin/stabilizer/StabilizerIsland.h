@@ -5,7 +5,8 @@
 // also every btPoint2PointConstraint and (not angular-only) btConeTwistConstraint (PointRows.h), less what the
 // user's filter leaves out (btQuaternionHingeStabilizer::setFilter). The scan is summarized as a
 // signature (joint, bodies, which are movable, row counts); while it equals the cached one the islands are reused
-// as they are, with their block pattern, joint numbering and symbolic analysis.
+// as they are, with their block pattern, joint numbering and symbolic analysis. When it changes, an island whose own
+// entries are unchanged is still kept (reset to a fresh island's state) and only the others are built.
 // Islands: joints connected through shared movable bodies (union–find); fixed bodies do not connect.
 // Numbering: along a depth-first tree of the island's bodies, leaves first — a body's joints to fixed bodies and to
 // non-parent bodies, then its joints to its parent, after all of its subtree. For an island without closed loops
@@ -205,6 +206,7 @@ struct Island
 	virtual ~Island() = default;
 	const int blockRows;  // R: 6 if some joint has a limit slot, else 5
 	Array<IslandBody> bodies;
+	Array<SignatureEntry> entries;  // the scan's entries it was built from, in scan order (kept while they stay)
 	Array<JointSlot> joints;  // in elimination order
 	Array<ContactSet> contacts;  // the contact slots' points this step (projectContacts), by JointSlot::contact
 	BlockPattern pattern;
@@ -239,7 +241,8 @@ struct BlockIsland : Island
 	Array<BlockVector<R>> lambda;  // right-hand side, then λ, per joint
 };
 
-/// Builds the islands of a scan. forceSparse: every island uses SparseLDLT.
+/// Builds the islands of a scan, keeping each island of `islands` whose entries are unchanged. forceSparse: every
+/// island uses SparseLDLT.
 void buildIslands(const Array<SignatureEntry>& scan, bool forceSparse,
 				  Array<std::unique_ptr<Island>>& islands);
 

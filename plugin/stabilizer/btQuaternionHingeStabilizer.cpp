@@ -33,6 +33,7 @@ struct btQuaternionHingeStabilizer::Impl
 	// every island body by its collision object, with its island (built with the islands)
 	IslandBodyMap bodyOf;
 	Array<AttachedBody> attached;     // this step's attached bodies (moveAttachedBodies, closeAttachedConstraints)
+	Array<std::pair<const btRigidBody*, long long>> contactIndex;  // scanContacts' scratch (projectContacts)
 	Array<std::unique_ptr<Island>> islands;
 	bool built = false;
 };
@@ -126,7 +127,7 @@ const btQuaternionHingeStabilizerStats& btQuaternionHingeStabilizer::stabilize(b
 	Impl& impl = *m_impl;
 	m_stats.filteredJoints = scanWorld(*world, m_settings.projectLimits, m_settings.projectPointConstraints, m_filter,
 									   impl.upcasts, impl.scan);
-	if (m_settings.projectContacts) scanContacts(*world->getDispatcher(), impl.scan);
+	if (m_settings.projectContacts) scanContacts(*world->getDispatcher(), impl.scan, impl.contactIndex);
 	if (!impl.built || impl.scan.size() != impl.signature.size() ||
 		!std::equal(impl.scan.begin(), impl.scan.end(), impl.signature.begin()))
 	{
