@@ -161,6 +161,30 @@ TEST(Stabilizer, SleepingIslandIsLeftAlone)
 	EXPECT_EQ(stabilizer.getLastStats().joints, 3);
 }
 
+TEST(Stabilizer, AChangeInOneIslandRebuildsThatIslandOnly)
+{
+	// two chains, two islands: a joint disabled in the second rebuilds its island and keeps the first as it is
+	StabilizerScene scene;
+	scene.chain(4, 1, 10);
+	scene.chain(4, 1, 20);
+	btQuaternionHingeStabilizer stabilizer;
+	scene.addAction(&stabilizer);
+	scene.world().stepSimulation(kTimeStep, 0);
+	EXPECT_EQ(stabilizer.getLastStats().islands, 2);
+	EXPECT_EQ(stabilizer.getLastStats().islandsBuilt, 2);
+	scene.world().stepSimulation(kTimeStep, 0);
+	EXPECT_FALSE(stabilizer.getLastStats().structureRebuilt);
+	EXPECT_EQ(stabilizer.getLastStats().islandsBuilt, 0);
+	scene.hinges()[7]->setEnabled(false);
+	scene.world().stepSimulation(kTimeStep, 0);
+	EXPECT_TRUE(stabilizer.getLastStats().structureRebuilt);
+	EXPECT_EQ(stabilizer.getLastStats().islands, 2);
+	EXPECT_EQ(stabilizer.getLastStats().islandsBuilt, 1);
+	double separation = 0, misalignment = 0;
+	scene.jointErrors(separation, misalignment);
+	EXPECT_LE(separation, kSeparationTolerance);
+}
+
 TEST(Stabilizer, DisabledAndBrokenJointsAreSkipped)
 {
 	// A disabled joint and a joint broken by its impulse threshold are not projected: their bodies part.

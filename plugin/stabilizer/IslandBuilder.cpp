@@ -338,8 +338,9 @@ void buildAll(const Array<SignatureEntry>& scan, bool forceSparse, Array<std::un
 }
 }  // namespace
 
-void buildIslands(const Array<SignatureEntry>& scan, bool forceSparse, Array<std::unique_ptr<Island>>& islands)
+int buildIslands(const Array<SignatureEntry>& scan, bool forceSparse, Array<std::unique_ptr<Island>>& islands)
 {
+	int built = 0;
 	// The scan's entries by island (union-find over their movable bodies, as buildAll), in the order of each island's
 	// first entry: the order buildAll gives the islands, with each island's entries in scan order.
 	std::unordered_map<const btRigidBody*, int> bodyIndex;
@@ -382,14 +383,16 @@ void buildIslands(const Array<SignatureEntry>& scan, bool forceSparse, Array<std
 			}
 		if (!island)
 		{
-			Array<std::unique_ptr<Island>> built;
-			buildAll(entries, forceSparse, built);
-			btAssert(built.size() == 1);
-			island = std::move(built[0]);
+			Array<std::unique_ptr<Island>> one;
+			buildAll(entries, forceSparse, one);
+			btAssert(one.size() == 1);
+			island = std::move(one[0]);
 			island->entries.swap(entries);
+			++built;
 		}
 		islands.push_back(std::move(island));
 	}
+	return built;
 }
 
 }  // namespace stabilizer

@@ -241,9 +241,9 @@ struct BlockIsland : Island
 	Array<BlockVector<R>> lambda;  // right-hand side, then λ, per joint
 };
 
-/// Builds the islands of a scan, keeping each island of `islands` whose entries are unchanged. forceSparse: every
-/// island uses SparseLDLT.
-void buildIslands(const Array<SignatureEntry>& scan, bool forceSparse,
+/// Builds the islands of a scan, keeping each island of `islands` whose entries are unchanged; returns how many it
+/// built. forceSparse: every island uses SparseLDLT.
+int buildIslands(const Array<SignatureEntry>& scan, bool forceSparse,
 				  Array<std::unique_ptr<Island>>& islands);
 
 /// Step settings and counters shared by the projection (a subset of btQuaternionHingeStabilizerSettings/Stats).

@@ -132,7 +132,7 @@ const btQuaternionHingeStabilizerStats& btQuaternionHingeStabilizer::stabilize(b
 		!std::equal(impl.scan.begin(), impl.scan.end(), impl.signature.begin()))
 	{
 		impl.signature = impl.scan;  // a copy, not a swap: both keep their capacity (no allocation the next step)
-		buildIslands(impl.signature, m_settings.solver == BT_QHSTAB_SOLVER_SPARSE_LDLT, impl.islands);
+		m_stats.islandsBuilt = buildIslands(impl.signature, m_settings.solver == BT_QHSTAB_SOLVER_SPARSE_LDLT, impl.islands);
 		impl.bodyOf.clear();
 		for (const auto& island : impl.islands)
 			for (IslandBody& b : island->bodies) impl.bodyOf[b.rigid] = std::make_pair(island.get(), &b);

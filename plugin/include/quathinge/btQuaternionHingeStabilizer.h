@@ -213,6 +213,7 @@ struct btQuaternionHingeStabilizerStats
 	btScalar velocityResidualAfter = 0;   ///< ‖J v‖∞ after it, at the final positions (each row's |J v| is then below
 										  ///< its position threshold over the time step, or the rounding floor)
 	bool structureRebuilt = false;  ///< the islands were (re)built this step: joints, bodies or their state changed
+	int islandsBuilt = 0;  ///< … of which built anew (an island whose own joints and contacts are unchanged is kept)
 	int numericalIssues = 0;        ///< pivots that were not positive and were treated as inactive rows (none expected)
 	btScalar energyCorrection = 0;  ///< conserveEnergy: the largest relative velocity scaling |s − 1| applied
 	double timeMicroseconds = 0;    ///< wall time of the call
