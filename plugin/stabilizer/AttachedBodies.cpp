@@ -33,10 +33,10 @@ void setState(btRigidBody& body, const btTransform& t, const btVector3& v, const
 	body.setInterpolationAngularVelocity(w);
 }
 
-/// The velocity of the host's material point at world point p.
+/// The velocity of the body's material point at world point p (Bullet's getVelocityInLocalPoint takes p's arm).
 btVector3 pointVelocity(const btRigidBody& body, const btVector3& p)
 {
-	return body.getLinearVelocity() + body.getAngularVelocity().cross(p - body.getCenterOfMassPosition());
+	return body.getVelocityInLocalPoint(p - body.getCenterOfMassPosition());
 }
 
 /// The forms closeAttachedConstraints knows (AttachedBodies.h).

@@ -1,5 +1,6 @@
 // Discovery, islands and the tree numbering of the stabilizer (see StabilizerIsland.h).
 #include "BulletAllocator.h"
+#include "IslandRestCache.h"
 #include "StabilizerIsland.h"
 
 #include "quathinge/btQuaternionHingeConstraint.h"
@@ -377,7 +378,7 @@ int buildIslands(const Array<SignatureEntry>& scan, bool forceSparse, Array<std:
 			if (o && o->entries.size() == entries.size() && std::equal(entries.begin(), entries.end(), o->entries.begin()))
 			{
 				island = std::move(o);
-				island->restCache.valid = false;
+				forgetProjection(*island);
 				island->energyReferenceSet = false;
 				break;
 			}

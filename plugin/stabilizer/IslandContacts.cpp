@@ -76,10 +76,10 @@ void scanContacts(btDispatcher& dispatcher, Array<SignatureEntry>& scan, Array<s
 			   scan.end());
 }
 
-void gatherContacts(btDispatcher& dispatcher, const IslandBodyMap& bodyOf)
+void gatherContacts(btDispatcher& dispatcher, const Array<std::unique_ptr<Island>>& islands, const IslandBodyMap& bodyOf)
 {
-	for (const auto& entry : bodyOf)
-		for (ContactSet& set : entry.second.first->contacts) set.count = 0;
+	for (const auto& island : islands)
+		for (ContactSet& set : island->contacts) set.count = 0;
 	for (int m = 0; m < dispatcher.getNumManifolds(); ++m)
 	{
 		const btPersistentManifold* manifold = dispatcher.getManifoldByIndexInternal(m);

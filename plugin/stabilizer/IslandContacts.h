@@ -43,7 +43,7 @@ namespace stabilizer
 void scanContacts(btDispatcher& dispatcher, Array<SignatureEntry>& scan, Array<std::pair<const btRigidBody*, long long>>& index);
 
 /// Fills every contact slot's ContactSet with its bodies' deepest manifold points, now.
-void gatherContacts(btDispatcher& dispatcher, const IslandBodyMap& bodyOf);
+void gatherContacts(btDispatcher& dispatcher, const Array<std::unique_ptr<Island>>& islands, const IslandBodyMap& bodyOf);
 
 /// The contact slot's rows at its bodies' current transforms into C and J (rows of the block), growing the active set
 /// with rows penetrating by more than `threshold` (unless taken out this step). Returns the largest |C| of the active

@@ -176,7 +176,7 @@ const btQuaternionHingeStabilizerStats& btQuaternionHingeStabilizer::stabilize(b
 			if (islandB && islandB != islandA) b->second.second->contactScale = kContactWeight;
 		}
 	}
-	if (m_settings.projectContacts) gatherContacts(*world->getDispatcher(), impl.bodyOf);
+	if (m_settings.projectContacts) gatherContacts(*world->getDispatcher(), impl.islands, impl.bodyOf);
 	impl.attached.clear();  // keeps its capacity: no allocation the next step
 	if (m_settings.moveAttachedBodies || m_settings.closeAttachedConstraints)
 		for (const auto& island : impl.islands)
