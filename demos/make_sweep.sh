@@ -24,7 +24,9 @@ scenes=(pendulum chain10 chain30 chain100 heavy10 heavy100 heavy1000 heavy10000 
         inertia_ratio inertia_ratio_10 inertia_ratio_100 inertia_ratio_1000)
 "$build/demos/quathinge-sweep" -s "${scenes[@]}" -b stock radial --orders point-first -i 10 20 50 100 250 -j 2 \
   -o "$out/sweep.csv" >"$out/sweep.txt"
-revision="$(git rev-parse --short HEAD 2>/dev/null || echo unknown)$(git diff --quiet HEAD 2>/dev/null || echo ' + local changes')"
+# the source the runs came from (what --publish writes, README.md and the plot, is not a change to it)
+revision="$(git rev-parse --short HEAD 2>/dev/null || echo unknown)$(git diff --quiet HEAD -- . ':!README.md' ':!docs/images' \
+  2>/dev/null || echo ' + local changes')"
 note="Measured by \`bash demos/make_sweep.sh\` on $(lscpu | sed -n 's/^Model name: *//p' | head -1), $(date -u +%Y-%m-%d); \
 source $revision; Bullet $(pkg-config --modversion bullet) float."
 /usr/bin/python3 demos/sweep_report.py "$out/sweep.csv" --out "$out" --note "$note"
