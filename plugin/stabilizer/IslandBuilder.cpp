@@ -224,72 +224,47 @@ bool prepareBlocks(BlockIsland<R>& island)
 
 namespace
 {
-// Every island of the scan, built from nothing (into `islands`, cleared first).
-void buildAll(const Array<SignatureEntry>& scan, bool forceSparse, Array<std::unique_ptr<Island>>& islands)
+// One island built from nothing: `entries` are its joints (and contact slots), connected through their movable
+// bodies, in scan order (buildIslands groups the scan).
+std::unique_ptr<Island> buildOne(const Array<SignatureEntry>& entries, bool forceSparse)
 {
-	islands.clear();
+	// 6-row blocks if some joint of the island has a limit slot, else 5.
+	const bool hasLimitSlot = std::any_of(entries.begin(), entries.end(), [](const SignatureEntry& e) {
+		return (e.flags & SignatureEntry::kLimitSlot) != 0;
+	});
+	std::unique_ptr<Island> islandPtr(hasLimitSlot ? static_cast<Island*>(new BlockIsland<6>)
+												   : static_cast<Island*>(new BlockIsland<5>));
+	Island& island = *islandPtr;
 	// Movable bodies, numbered in scan order.
 	std::unordered_map<const btRigidBody*, int> bodyIndex;
-	Array<btRigidBody*> bodies;
 	const unsigned movableFlag[2] = {SignatureEntry::kMovableA, SignatureEntry::kMovableB};
-	for (const SignatureEntry& e : scan)
+	for (const SignatureEntry& e : entries)
 		for (int s = 0; s < 2; ++s)
-			if ((e.flags & movableFlag[s]) && bodyIndex.emplace(e.body[s], int(bodies.size())).second)
-				bodies.push_back(e.body[s]);
+			if ((e.flags & movableFlag[s]) && bodyIndex.emplace(e.body[s], int(island.bodies.size())).second)
+			{
+				IslandBody body;
+				body.rigid = e.body[s];
+				body.invMass.setZero();
+				body.invInertia.setZero();
+				body.delta.setZero();
+				body.saved.setIdentity();
+				island.bodies.push_back(body);
+			}
 	auto indexOf = [&](const SignatureEntry& e, int s) {
 		return (e.flags & movableFlag[s]) ? bodyIndex[e.body[s]] : -1;
 	};
 
-	Array<int> parent(bodies.size());
-	for (size_t i = 0; i < parent.size(); ++i) parent[i] = int(i);
-	for (const SignatureEntry& e : scan)
+	for (const SignatureEntry& e : entries)
 	{
 		const int a = indexOf(e, 0), b = indexOf(e, 1);
-		if (a >= 0 && b >= 0) parent[findRoot(parent, a)] = findRoot(parent, b);
-	}
-
-	// The block size per root: 6 rows if some joint of the island has a limit slot, else 5.
-	Array<char> hasLimitSlot(bodies.size(), 0);
-	for (const SignatureEntry& e : scan)
-	{
-		const int a = indexOf(e, 0), b = indexOf(e, 1);
-		if (e.flags & SignatureEntry::kLimitSlot) hasLimitSlot[findRoot(parent, a >= 0 ? a : b)] = 1;
-	}
-
-	// Island per root; bodies and joints in scan order.
-	std::unordered_map<int, int> islandOf;
-	Array<int> localBody(bodies.size(), -1);
-	for (size_t i = 0; i < bodies.size(); ++i)
-	{
-		const int root = findRoot(parent, int(i));
-		auto found = islandOf.emplace(root, int(islands.size()));
-		if (found.second)
-		{
-			if (hasLimitSlot[root]) islands.emplace_back(new BlockIsland<6>);
-			else islands.emplace_back(new BlockIsland<5>);
-		}
-		Island& island = *islands[found.first->second];
-		localBody[i] = int(island.bodies.size());
-		IslandBody body;
-		body.rigid = bodies[i];
-		body.invMass.setZero();
-		body.invInertia.setZero();
-		body.delta.setZero();
-		body.saved.setIdentity();
-		island.bodies.push_back(body);
-	}
-	for (const SignatureEntry& e : scan)
-	{
-		const int a = indexOf(e, 0), b = indexOf(e, 1);
-		Island& island = *islands[islandOf[findRoot(parent, a >= 0 ? a : b)]];
 		JointSlot slot;
 		slot.joint = e.joint;
 		slot.point = e.point;
 		slot.contact = -1;
 		slot.rigid[0] = e.body[0];
 		slot.rigid[1] = e.body[1];
-		slot.body[0] = a >= 0 ? localBody[a] : -1;
-		slot.body[1] = b >= 0 ? localBody[b] : -1;
+		slot.body[0] = a;
+		slot.body[1] = b;
 		slot.bilateralRows = e.point ? 3 : (e.flags & SignatureEntry::kAngularOnly) ? 2 : 5;
 		slot.linearRows = (e.flags & SignatureEntry::kAngularOnly) ? 0 : 3;
 		slot.limitSlot = (e.flags & SignatureEntry::kLimitSlot) != 0;
@@ -318,9 +293,7 @@ void buildAll(const Array<SignatureEntry>& scan, bool forceSparse, Array<std::un
 		island.joints.push_back(slot);
 	}
 
-	for (auto& islandPtr : islands)
 	{
-		Island& island = *islandPtr;
 		const Array<int> order = treeOrder(int(island.bodies.size()), island.joints);
 		Array<JointSlot> ordered;
 		ordered.reserve(order.size());
@@ -336,14 +309,15 @@ void buildAll(const Array<SignatureEntry>& scan, bool forceSparse, Array<std::un
 			island.sparse->analyze(island.pattern);
 		}
 	}
+	return islandPtr;
 }
 }  // namespace
 
 int buildIslands(const Array<SignatureEntry>& scan, bool forceSparse, Array<std::unique_ptr<Island>>& islands)
 {
 	int built = 0;
-	// The scan's entries by island (union-find over their movable bodies, as buildAll), in the order of each island's
-	// first entry: the order buildAll gives the islands, with each island's entries in scan order.
+	// The scan's entries by island (union-find over their movable bodies), in the order of each island's first entry,
+	// with each island's entries in scan order.
 	std::unordered_map<const btRigidBody*, int> bodyIndex;
 	Array<int> parent;
 	const unsigned movableFlag[2] = {SignatureEntry::kMovableA, SignatureEntry::kMovableB};
@@ -384,10 +358,7 @@ int buildIslands(const Array<SignatureEntry>& scan, bool forceSparse, Array<std:
 			}
 		if (!island)
 		{
-			Array<std::unique_ptr<Island>> one;
-			buildAll(entries, forceSparse, one);
-			btAssert(one.size() == 1);
-			island = std::move(one[0]);
+			island = buildOne(entries, forceSparse);
 			island->entries.swap(entries);
 			++built;
 		}

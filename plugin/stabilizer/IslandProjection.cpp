@@ -167,12 +167,14 @@ struct IslandStep
 		return false;
 	}
 	// After a solve with rhs: contact rows that pull are taken out, K factorized again and the solve repeated, until
-	// none pulls (at most kMaxContactReleases times). False if a factorization failed.
-	bool solveAgainWithoutPullingContacts(BlockVector<R> JointBlock<R>::*rhs)
+	// none pulls (at most kMaxContactReleases times); `refactorized` says whether any was. False if a factorization
+	// failed.
+	bool solveAgainWithoutPullingContacts(BlockVector<R> JointBlock<R>::*rhs, bool* refactorized = nullptr)
 	{
 		if (island.contacts.empty()) return true;
 		for (int k = 0; k < kMaxContactReleases && releasePullingContacts(island); ++k)
 		{
+			if (refactorized) *refactorized = true;
 			if (!factorize()) return false;
 			solveDeltas(island, rhs, result);
 		}
@@ -291,11 +293,9 @@ struct IslandStep
 				factorizedHere = true;
 				solveDeltas(island, &JointBlock<R>::jv, result);
 			}
-			if (pullingContact())
-			{
-				if (!solveAgainWithoutPullingContacts(&JointBlock<R>::jv)) break;
-				factorNow = factorizedHere = true;
-			}
+			bool refactorized = false;
+			if (!solveAgainWithoutPullingContacts(&JointBlock<R>::jv, &refactorized)) break;
+			if (refactorized) factorNow = factorizedHere = true;
 			changeVelocities(island);
 			const btScalar previous = vres.normalized;
 			vres = evaluateVelocities(island, false, settings.timeStep);

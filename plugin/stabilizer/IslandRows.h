@@ -18,6 +18,18 @@ namespace stabilizer
 {
 inline btScalar maxAbs(const btVector3& v) { return btMax(btFabs(v.x()), btMax(btFabs(v.y()), btFabs(v.z()))); }
 
+// The rounding floor of a quantity of magnitude up to `scale` (units of it): 4ε·max(1, scale). A linear row's C at
+// bodies whose coordinates reach `scale` m cannot be resolved below it (float Bullet: ~1e-6 m at 10 m), nor J v below
+// it at speeds |v| + |ω|·1 m up to `scale`; an angular row's floor is 4ε rad (scale 1).
+inline btScalar roundingFloor(btScalar scale) { return 4 * SIMD_EPSILON * btMax(btScalar(1), scale); }
+
+// A row is converged once |C| ≤ its threshold: the tolerance, or the row's rounding floor where that is larger.
+inline btScalar linearRowThreshold(btScalar tolerance, btScalar coordinate)
+{
+	return btMax(tolerance, roundingFloor(coordinate));
+}
+inline btScalar angularRowThreshold(btScalar tolerance) { return btMax(tolerance, roundingFloor(0)); }
+
 #ifdef BT_DEBUG
 // The linear part of every row is ±[I₃; 0] (point rows) or 0 (quaternion rows): what JointSlot::linearSign encodes.
 inline bool hasPointStructure(const btScalar* jac, int rows, int linearRows)
@@ -46,7 +58,7 @@ template <int R>
 PositionResidual evaluatePositions(BlockIsland<R>& island, btScalar tolerance)
 {
 	PositionResidual res;
-	const btScalar angularThreshold = btMax(tolerance, 4 * SIMD_EPSILON);
+	const btScalar angularThreshold = angularRowThreshold(tolerance);
 	btScalar c[5];
 	btScalar jac[60];
 	for (size_t j = 0; j < island.joints.size(); ++j)
@@ -57,7 +69,7 @@ PositionResidual evaluatePositions(BlockIsland<R>& island, btScalar tolerance)
 		{
 			btScalar coordinate = maxAbs(js.rigid[0]->getCenterOfMassPosition());
 			if (js.rigid[1]) coordinate = btMax(coordinate, maxAbs(js.rigid[1]->getCenterOfMassPosition()));
-			js.linearThreshold = btMax(tolerance, 4 * SIMD_EPSILON * btMax(btScalar(1), coordinate));
+			js.linearThreshold = linearRowThreshold(tolerance, coordinate);
 			js.angularThreshold = angularThreshold;
 			const btScalar worst = evaluateContactRows(island, js, jb, js.linearThreshold);
 			res.linear = btMax(res.linear, worst);
@@ -87,9 +99,9 @@ PositionResidual evaluatePositions(BlockIsland<R>& island, btScalar tolerance)
 			btScalar& worst = r < linearRows ? linear : angular;
 			worst = btMax(worst, btFabs(c[r]));
 		}
-		// The pivot's rounding floor: 4ε·max(1 m, |x|) at the larger of the two bodies' coordinates.
+		// The pivot's rounding floor at the larger of the two bodies' coordinates.
 		const btScalar coordinate = btMax(maxAbs(tA.getOrigin()), maxAbs(tB.getOrigin()));
-		const btScalar linearThreshold = btMax(tolerance, 4 * SIMD_EPSILON * btMax(btScalar(1), coordinate));
+		const btScalar linearThreshold = linearRowThreshold(tolerance, coordinate);
 		js.linearThreshold = linearThreshold;
 		js.angularThreshold = angularThreshold;
 		res.linear = btMax(res.linear, linear);
@@ -180,7 +192,7 @@ VelocityResidual evaluateVelocities(BlockIsland<R>& island, bool decideLimits, b
 		}
 		if (js.contact >= 0 && js.contactTouched != js.contactActiveInFactor) res.limitsChanged = true;
 		jb.jv.noalias() = jb.jacobian * v;
-		const btScalar floor = 4 * SIMD_EPSILON * btMax(btScalar(1), speed);
+		const btScalar floor = roundingFloor(speed);
 		const int linearRows = js.linearRows;
 		for (int r = 0; r < js.rows; ++r)
 		{
