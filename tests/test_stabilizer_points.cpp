@@ -248,4 +248,97 @@ TEST(StabilizerPoints, HangingMixedChainAtRestIsReplayedAndAMovedPivotIsProjecte
 	EXPECT_GT(stabilizer.getLastStats().factorizations, 0);
 	EXPECT_LE(pointSeparation(points), kSeparationTolerance);
 }
+
+namespace
+{
+// A 6-dof's pivot separation (m): |p_B − p_A| with A's pivot frame A's origin moved by the locked linear values
+// along frame A's axes (the constraint's own reading of its locked axes, measured here independently of PointRows.h).
+double dofSeparation(btGeneric6DofSpring2Constraint& dof)
+{
+	btVector3 low;
+	dof.getLinearLowerLimit(low);
+	const btVector3 a = dof.getRigidBodyA().getCenterOfMassTransform() * (dof.getFrameOffsetA() * low);
+	const btVector3 b = dof.getRigidBodyB().getCenterOfMassTransform() * dof.getFrameOffsetB().getOrigin();
+	return double((b - a).length());
+}
+}  // namespace
+
+TEST(StabilizerPoints, SixDofWithItsLinearAxesLockedIsAPointConstraint)
+{
+	// A 5-link chain released horizontally: hinge to the world, then a 6-dof ball (linear axes locked at a 2 cm offset
+	// along frame A's x, angles free), a hinge, a 6-dof hinge (linear axes locked at 0, its x and y angles locked, z
+	// free), and a weld (btFixedConstraint) to a last small box. With the option the two 6-dofs' pivots are projected
+	// as point constraints and hold; the weld is not one (its orientation is locked too), nor is anything without it.
+	const btVector3 left(-kLink / 2, 0, 0), right(kLink / 2, 0, 0);
+	const btScalar offset = btScalar(0.02);
+	auto build = [&](StabilizerScene& scene, std::vector<btGeneric6DofSpring2Constraint*>& dofs) {
+		std::vector<btRigidBody*> links;
+		btScalar x = 0;
+		for (int i = 0; i < 4; ++i)
+		{
+			links.push_back(scene.box(btVector3(kLink / 2, btScalar(0.05), btScalar(0.05)), 1,
+									  btVector3(x + kLink / 2, 10, 0)));
+			x += kLink + (i == 0 ? offset : 0);  // the ball holds its links 2 cm apart along x
+		}
+		scene.hingeToWorld(*links[0], left, btVector3(0, 0, 1));
+		btTransform fa = btTransform::getIdentity(), fb = btTransform::getIdentity();
+		fa.setOrigin(right);
+		fb.setOrigin(left);
+		auto* ball = new btGeneric6DofSpring2Constraint(*links[0], *links[1], fa, fb);
+		ball->setLinearLowerLimit(btVector3(offset, 0, 0));
+		ball->setLinearUpperLimit(btVector3(offset, 0, 0));
+		ball->setAngularLowerLimit(btVector3(1, 1, 1));  // lower > upper: free
+		ball->setAngularUpperLimit(btVector3(-1, -1, -1));
+		scene.addConstraint(ball);
+		scene.hinge(*links[1], *links[2], right, left, btVector3(0, 1, 0), btVector3(0, 1, 0));
+		auto* dofHinge = new btGeneric6DofSpring2Constraint(*links[2], *links[3], fa, fb);
+		dofHinge->setLinearLowerLimit(btVector3(0, 0, 0));
+		dofHinge->setLinearUpperLimit(btVector3(0, 0, 0));
+		dofHinge->setAngularLowerLimit(btVector3(0, 0, 1));
+		dofHinge->setAngularUpperLimit(btVector3(0, 0, -1));
+		scene.addConstraint(dofHinge);
+		btRigidBody* tool = scene.box(btVector3(btScalar(0.05), btScalar(0.05), btScalar(0.05)), btScalar(0.1),
+									  btVector3(x + btScalar(0.05), 10, 0));
+		btTransform ta = btTransform::getIdentity(), tb = btTransform::getIdentity();
+		ta.setOrigin(right);
+		tb.setOrigin(btVector3(btScalar(-0.05), 0, 0));
+		scene.addConstraint(new btFixedConstraint(*links[3], *tool, ta, tb));
+		dofs = {ball, dofHinge};
+	};
+	StabilizerScene on, off;
+	std::vector<btGeneric6DofSpring2Constraint*> dofsOn, dofsOff;
+	build(on, dofsOn);
+	build(off, dofsOff);
+	btQuaternionHingeStabilizerSettings settings;
+	settings.projectPointConstraints = true;
+	btQuaternionHingeStabilizer withPoints(settings), hingesOnly;
+	on.addAction(&withPoints);
+	off.addAction(&hingesOnly);
+	double worstOn = 0, worstOff = 0, hingeOn = 0;
+	for (int i = 0; i < 120; ++i)
+	{
+		on.world().stepSimulation(kTimeStep, 0);
+		off.world().stepSimulation(kTimeStep, 0);
+		for (btGeneric6DofSpring2Constraint* d : dofsOn) worstOn = std::max(worstOn, dofSeparation(*d));
+		for (btGeneric6DofSpring2Constraint* d : dofsOff) worstOff = std::max(worstOff, dofSeparation(*d));
+		double separation, misalignment;
+		on.jointErrors(separation, misalignment);
+		hingeOn = std::max(hingeOn, separation);
+	}
+	std::printf("[ figures  ] 6-dof points, largest separation (m): option on %.2e (hinges %.2e); off %.2e\n", worstOn,
+				hingeOn, worstOff);
+	EXPECT_EQ(withPoints.getLastStats().joints, 4);  // two hinges, two 6-dofs; not the weld
+	EXPECT_EQ(withPoints.getLastStats().islands, 1);
+	EXPECT_EQ(hingesOnly.getLastStats().joints, 2);
+	EXPECT_LE(worstOn, kSeparationTolerance);
+	EXPECT_LE(hingeOn, kSeparationTolerance);
+	EXPECT_GT(worstOff, 100 * kSeparationTolerance);  // the solver alone leaves them apart
+	ASSERT_TRUE(on.allFinite());
+	// unlocking a linear axis makes the ball a slider: no longer a point constraint (the islands are rebuilt)
+	dofsOn[0]->setLinearLowerLimit(btVector3(offset, 0, -1));
+	dofsOn[0]->setLinearUpperLimit(btVector3(offset, 0, 1));
+	on.world().stepSimulation(kTimeStep, 0);
+	EXPECT_TRUE(withPoints.getLastStats().structureRebuilt);
+	EXPECT_EQ(withPoints.getLastStats().joints, 3);
+}
 #endif  // QUATHINGE_HAVE_STABILIZER

@@ -60,6 +60,18 @@ Closable closableForm(const btTypedConstraint& c)
 	Closable k;
 	k.frameA.setIdentity();
 	k.frameB.setIdentity();
+	// a 6-dof first: its point form keeps its locked offset here (hasPointRows takes it as a point too)
+	const DofLocks dof = dofLocks(c);
+	if (dof.isDof)
+	{
+		k.frameA = dof.frameA;
+		k.frameB = dof.frameB;
+		k.offset = dof.offset;
+		for (int i = 0; i < 3; ++i) k.locked[i] = dof.linear[i];
+		if (dof.anglesLockedAtZero) k.form = Form::Slider;
+		else if (dof.allLinear) k.form = Form::Point;
+		return k;
+	}
 	if (hasPointRows(c))
 	{
 		btVector3 inA, inB;
@@ -67,28 +79,7 @@ Closable closableForm(const btTypedConstraint& c)
 		k.frameA.setOrigin(inA);
 		k.frameB.setOrigin(inB);
 		k.form = Form::Point;
-		return k;
 	}
-	// btFixedConstraint is a btGeneric6DofSpring2Constraint (Bullet 2.83 on); Bullet's own type numbers name its classes
-	if (c.getConstraintType() != D6_SPRING_2_CONSTRAINT_TYPE && c.getConstraintType() != FIXED_CONSTRAINT_TYPE) return k;
-	auto& dof = const_cast<btGeneric6DofSpring2Constraint&>(static_cast<const btGeneric6DofSpring2Constraint&>(c));
-	btVector3 linearLow, linearHigh, angularLow, angularHigh;
-	dof.getLinearLowerLimit(linearLow);
-	dof.getLinearUpperLimit(linearHigh);
-	dof.getAngularLowerLimit(angularLow);
-	dof.getAngularUpperLimit(angularHigh);
-	k.frameA = dof.getFrameOffsetA();
-	k.frameB = dof.getFrameOffsetB();
-	bool allLinear = true, allAngular = true;
-	for (int i = 0; i < 3; ++i)
-	{
-		k.locked[i] = linearLow[i] == linearHigh[i];  // Bullet: low == high locks the axis at that value
-		if (k.locked[i]) k.offset[i] = linearLow[i];
-		allLinear = allLinear && k.locked[i];
-		allAngular = allAngular && angularLow[i] == 0 && angularHigh[i] == 0;
-	}
-	if (allAngular) k.form = Form::Slider;
-	else if (allLinear) k.form = Form::Point;
 	return k;
 }
 

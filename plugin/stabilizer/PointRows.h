@@ -1,11 +1,16 @@
 // The point rows of Bullet's own point constraints (btQuaternionHingeStabilizerSettings::projectPointConstraints):
-// btPoint2PointConstraint and the pivot of btConeTwistConstraint (not angular-only; its swing and twist limits are not
-// projected). C = p_B − p_A, the world pivots, and J the same point rows as a quaternion hinge's
-// (btQuaternionHingeConstraint::computePositionRows, MATH.md Q13; both from plugin/src/WorldPointRows.h).
+// btPoint2PointConstraint, the pivot of btConeTwistConstraint (not angular-only; its swing and twist limits are not
+// projected) and of a btGeneric6DofSpring2Constraint whose three linear axes are locked (a ball or hinge built from a
+// 6-dof: its pivot is frame B's origin and frame A's origin moved by the locked values along frame A's axes, a point
+// of body A; its angles, free, limited or partly locked, are not projected). C = p_B − p_A, the world pivots, and J
+// the same point rows as a quaternion hinge's (btQuaternionHingeConstraint::computePositionRows, MATH.md Q13; both
+// from plugin/src/WorldPointRows.h). A 6-dof with its angles locked at 0 as well (a weld, btFixedConstraint) is not a
+// point constraint here: its orientation matters as much (closeAttachedConstraints closes it whole, AttachedBodies.h).
 #ifndef QUATHINGE_STABILIZER_POINT_ROWS_H
 #define QUATHINGE_STABILIZER_POINT_ROWS_H
 
 #include "BulletDynamics/ConstraintSolver/btConeTwistConstraint.h"
+#include "BulletDynamics/ConstraintSolver/btGeneric6DofSpring2Constraint.h"
 #include "BulletDynamics/ConstraintSolver/btPoint2PointConstraint.h"
 #include "LinearMath/btTransform.h"
 #include "WorldPointRows.h"
@@ -14,15 +19,53 @@ namespace quathinge
 {
 namespace stabilizer
 {
+/// A btGeneric6DofSpring2Constraint (btFixedConstraint is one, Bullet 2.83 on) as its limits lock it now.
+struct DofLocks
+{
+	bool isDof = false;               // the constraint is a btGeneric6DofSpring2Constraint
+	bool linear[3] = {false, false, false};  // linear axis i locked: low == high (Bullet's convention), at offset[i]
+	btVector3 offset{0, 0, 0};        // the locked values along frame A's axes (m)
+	bool allLinear = false;           // all three linear axes locked
+	bool anglesLockedAtZero = false;  // all three angles locked at 0
+	btTransform frameA, frameB;       // in A's and B's centre-of-mass frames
+};
+
 // Bullet's own type numbers name Bullet's own classes (its serializer and debug drawer cast on them the same way).
+inline DofLocks dofLocks(const btTypedConstraint& c)
+{
+	DofLocks k;
+	if (c.getConstraintType() != D6_SPRING_2_CONSTRAINT_TYPE && c.getConstraintType() != FIXED_CONSTRAINT_TYPE) return k;
+	// (Bullet's getters of the limits are not const)
+	auto& dof = const_cast<btGeneric6DofSpring2Constraint&>(static_cast<const btGeneric6DofSpring2Constraint&>(c));
+	btVector3 linearLow, linearHigh, angularLow, angularHigh;
+	dof.getLinearLowerLimit(linearLow);
+	dof.getLinearUpperLimit(linearHigh);
+	dof.getAngularLowerLimit(angularLow);
+	dof.getAngularUpperLimit(angularHigh);
+	k.isDof = true;
+	k.frameA = dof.getFrameOffsetA();
+	k.frameB = dof.getFrameOffsetB();
+	k.allLinear = k.anglesLockedAtZero = true;
+	for (int i = 0; i < 3; ++i)
+	{
+		k.linear[i] = linearLow[i] == linearHigh[i];
+		if (k.linear[i]) k.offset[i] = linearLow[i];
+		k.allLinear = k.allLinear && k.linear[i];
+		k.anglesLockedAtZero = k.anglesLockedAtZero && angularLow[i] == 0 && angularHigh[i] == 0;
+	}
+	return k;
+}
+
 inline bool hasPointRows(const btTypedConstraint& c)
 {
 	if (c.getConstraintType() == POINT2POINT_CONSTRAINT_TYPE) return true;
-	return c.getConstraintType() == CONETWIST_CONSTRAINT_TYPE &&
-		   !static_cast<const btConeTwistConstraint&>(c).getAngularOnly();
+	if (c.getConstraintType() == CONETWIST_CONSTRAINT_TYPE)
+		return !static_cast<const btConeTwistConstraint&>(c).getAngularOnly();
+	const DofLocks k = dofLocks(c);
+	return k.allLinear && !k.anglesLockedAtZero;
 }
 
-/// The pivots in A's and B's centre-of-mass frames, as the constraint holds them now.
+/// The pivots in A's and B's centre-of-mass frames, as the constraint holds them now (a constraint hasPointRows takes).
 inline void pointPivots(const btTypedConstraint& c, btVector3& inA, btVector3& inB)
 {
 	if (c.getConstraintType() == POINT2POINT_CONSTRAINT_TYPE)
@@ -32,9 +75,17 @@ inline void pointPivots(const btTypedConstraint& c, btVector3& inA, btVector3& i
 		inB = p.getPivotInB();
 		return;
 	}
-	const btConeTwistConstraint& cone = static_cast<const btConeTwistConstraint&>(c);
-	inA = cone.getAFrame().getOrigin();
-	inB = cone.getBFrame().getOrigin();
+	if (c.getConstraintType() == CONETWIST_CONSTRAINT_TYPE)
+	{
+		const btConeTwistConstraint& cone = static_cast<const btConeTwistConstraint&>(c);
+		inA = cone.getAFrame().getOrigin();
+		inB = cone.getBFrame().getOrigin();
+		return;
+	}
+	// a 6-dof with its linear axes locked: p_B − p_A = R_FA · offset, so A's pivot is frame A's origin moved by it
+	const DofLocks k = dofLocks(c);
+	inA = k.frameA * k.offset;
+	inB = k.frameB.getOrigin();
 }
 
 /// C (3) and J (3 rows of 12: v_A, ω_A, v_B, ω_B) at the given transforms; returns 3.

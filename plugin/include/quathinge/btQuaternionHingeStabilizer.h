@@ -124,10 +124,13 @@ struct btQuaternionHingeStabilizerSettings
 	bool projectVelocities = true;
 	/// Project violated limits (the limit row, as an inequality). Off: only the bilateral rows.
 	bool projectLimits = true;
-	/// Also project the pivots of Bullet's point constraints, btPoint2PointConstraint and btConeTwistConstraint (its
-	/// three point rows, unless angular-only; a cone twist's swing and twist limits are not projected), in the same
-	/// islands as the quaternion hinges: a ragdoll of hinges and cone twists then holds together at every joint. They
-	/// go through the filter as well. Off (the default): only quaternion hinges; other constraints are not seen.
+	/// Also project the pivots of Bullet's point constraints, btPoint2PointConstraint, btConeTwistConstraint (its
+	/// three point rows, unless angular-only; a cone twist's swing and twist limits are not projected) and
+	/// btGeneric6DofSpring2Constraint with its three linear axes locked (low == high; a ball or a hinge built from a
+	/// 6-dof, its pivot moved by the locked values; its angles are not projected, and one with its angles locked at 0
+	/// too, a weld or btFixedConstraint, is not taken), in the same islands as the quaternion hinges: a ragdoll of
+	/// hinges and cone twists then holds together at every joint. They go through the filter as well. Off (the
+	/// default): only quaternion hinges; other constraints are not seen.
 	bool projectPointConstraints = false;
 	/// Project contacts too: an island body touching static (or sleeping) bodies gets a contact slot of up to 5 or 6
 	/// rows (its deepest points), two island bodies touching each other a pair slot. A row is one-sided: it enters once
