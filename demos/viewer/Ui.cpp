@@ -76,6 +76,7 @@ void Viewer::panel()
 	}
 	// the stabilizer's optional parts (quaternion+stab panes), applied at once
 	bool changed = ImGui::Checkbox("stab: point constraints", &m_projectPoints);
+	changed |= ImGui::Checkbox("stab: sliders and welds", &m_projectLocked);
 	changed |= ImGui::Checkbox("stab: contacts", &m_projectContacts);
 	changed |= ImGui::Checkbox("stab: carry attached", &m_moveAttached);
 	changed |= ImGui::Checkbox("stab: close attached", &m_closeAttached);
@@ -108,6 +109,7 @@ void Viewer::applyStabilizerOptions()
 		if (!stabilizer) continue;
 		btQuaternionHingeStabilizerSettings settings = stabilizer->getSettings();
 		settings.projectPointConstraints = m_projectPoints;
+		settings.projectLockedConstraints = m_projectLocked;
 		settings.projectContacts = m_projectContacts;
 		settings.moveAttachedBodies = m_moveAttached;
 		settings.closeAttachedConstraints = m_closeAttached;

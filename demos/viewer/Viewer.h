@@ -109,7 +109,8 @@ private:
 	int m_pickPane = 0;
 	int m_left = 0;  // px: the panel's column, left of the panes
 	// The stabilizer's optional parts (btQuaternionHingeStabilizerSettings), set on every pane with a stabilizer
-	bool m_projectPoints = false, m_projectContacts = false, m_moveAttached = false, m_closeAttached = false;
+	bool m_projectPoints = false, m_projectLocked = false, m_projectContacts = false, m_moveAttached = false,
+		 m_closeAttached = false;
 	void applyStabilizerOptions();
 	static const int kPanelWidth = 330;
 };

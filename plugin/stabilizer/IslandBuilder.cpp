@@ -6,6 +6,7 @@
 #include "quathinge/btQuaternionHingeConstraint.h"
 #include "quathinge/btQuaternionHingeStabilizer.h"
 
+#include "LockedRows.h"
 #include "PointRows.h"
 
 #include "BulletDynamics/Dynamics/btDynamicsWorld.h"
@@ -25,7 +26,7 @@ bool isMovable(const btRigidBody& body)
 		   (body.getInvMass() > 0 || !body.getInvInertiaDiagLocal().isZero());
 }
 
-int scanWorld(btDynamicsWorld& world, bool projectLimits, bool projectPoints,
+int scanWorld(btDynamicsWorld& world, bool projectLimits, bool projectPoints, bool projectLocked,
 			  const btQuaternionHingeStabilizerFilter* filter, UpcastCache& upcasts, Array<SignatureEntry>& out)
 {
 	out.clear();
@@ -54,10 +55,12 @@ int scanWorld(btDynamicsWorld& world, bool projectLimits, bool projectPoints,
 		}
 		if (!c->isEnabled()) continue;
 		const bool point = !hinge && projectPoints && hasPointRows(*c);
-		if (!hinge && !point) continue;
+		const bool locked = !hinge && !point && projectLocked && hasLockedRows(*c);
+		if (!hinge && !point && !locked) continue;
 		SignatureEntry e;
 		e.joint = hinge;
 		e.point = point ? c : nullptr;
+		e.locked = locked ? c : nullptr;
 		e.body[0] = &c->getRigidBodyA();
 		e.body[1] = &c->getRigidBodyB();
 		e.flags = 0;
@@ -72,8 +75,9 @@ int scanWorld(btDynamicsWorld& world, bool projectLimits, bool projectPoints,
 			++filtered;
 			continue;
 		}
-		if (point)
+		if (point || locked)
 		{
+			if (locked) e.flags |= lockedLinearAxes(*c) * SignatureEntry::kLockedAxis0;
 			out.push_back(e);
 			continue;
 		}
@@ -228,9 +232,10 @@ namespace
 // bodies, in scan order (buildIslands groups the scan).
 std::unique_ptr<Island> buildOne(const Array<SignatureEntry>& entries, bool forceSparse)
 {
-	// 6-row blocks if some joint of the island has a limit slot, else 5.
-	const bool hasLimitSlot = std::any_of(entries.begin(), entries.end(), [](const SignatureEntry& e) {
-		return (e.flags & SignatureEntry::kLimitSlot) != 0;
+	// 6-row blocks if some joint of the island has a limit slot or six rows (a weld: three locked linear axes), else 5.
+	const unsigned allLinearLocked = 7 * SignatureEntry::kLockedAxis0;
+	const bool hasLimitSlot = std::any_of(entries.begin(), entries.end(), [&](const SignatureEntry& e) {
+		return (e.flags & SignatureEntry::kLimitSlot) != 0 || (e.locked && (e.flags & allLinearLocked) == allLinearLocked);
 	});
 	std::unique_ptr<Island> islandPtr(hasLimitSlot ? static_cast<Island*>(new BlockIsland<6>)
 												   : static_cast<Island*>(new BlockIsland<5>));
@@ -260,13 +265,23 @@ std::unique_ptr<Island> buildOne(const Array<SignatureEntry>& entries, bool forc
 		JointSlot slot;
 		slot.joint = e.joint;
 		slot.point = e.point;
+		slot.locked = e.locked;
 		slot.contact = -1;
+		slot.generalLinear = false;
 		slot.rigid[0] = e.body[0];
 		slot.rigid[1] = e.body[1];
 		slot.body[0] = a;
 		slot.body[1] = b;
 		slot.bilateralRows = e.point ? 3 : (e.flags & SignatureEntry::kAngularOnly) ? 2 : 5;
 		slot.linearRows = (e.flags & SignatureEntry::kAngularOnly) ? 0 : 3;
+		if (e.locked)
+		{
+			slot.linearRows = 0;
+			for (int i = 0; i < 3; ++i)
+				if (e.flags & (SignatureEntry::kLockedAxis0 << i)) ++slot.linearRows;
+			slot.bilateralRows = slot.linearRows + 3;
+			slot.generalLinear = island.generalLinear = true;
+		}
 		slot.limitSlot = (e.flags & SignatureEntry::kLimitSlot) != 0;
 		slot.rows = slot.bilateralRows + (slot.limitSlot ? 1 : 0);
 		slot.contactTouched = slot.contactReleased = slot.contactActiveInFactor = 0;
@@ -281,6 +296,7 @@ std::unique_ptr<Island> buildOne(const Array<SignatureEntry>& entries, bool forc
 			if (slot.body[1] < 0) island.bodies[size_t(slot.body[0])].contactSet = slot.contact;
 			slot.bilateralRows = 0;
 			slot.rows = slot.linearRows = island.blockRows;
+			slot.generalLinear = island.generalLinear = true;
 		}
 		slot.angleReference = slot.angle = 0;
 		slot.limitActive = slot.limitActiveInFactor = false;
@@ -289,7 +305,8 @@ std::unique_ptr<Island> buildOne(const Array<SignatureEntry>& entries, bool forc
 		slot.limitGradient.setZero();
 		for (int side = 0; side < 2; ++side)
 			slot.linearSign[side] =
-				(e.flags & (SignatureEntry::kAngularOnly | SignatureEntry::kContact)) ? 0 : (side == 0 ? -1 : 1);
+				((e.flags & (SignatureEntry::kAngularOnly | SignatureEntry::kContact)) || slot.generalLinear) ? 0
+																								  : (side == 0 ? -1 : 1);
 		island.joints.push_back(slot);
 	}
 

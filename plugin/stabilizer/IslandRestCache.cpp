@@ -91,6 +91,15 @@ void gatherInputs(const Island& island, btScalar timeStep, Array<btScalar>& out)
 				g.add(js.rigid[s]->getLinearVelocity());
 				g.add(js.rigid[s]->getAngularVelocity());
 			}
+		if (js.locked)  // a locked 6-dof: its frames and locked values (which axes are locked is in the signature)
+		{
+			const DofLocks k = dofLocks(*js.locked);
+			g.add(k.frameA);
+			g.add(k.frameB);
+			g.add(k.offset);
+			static_assert(kPerJoint == 12 + 12 + 3, "a locked 6-dof fills the joint's share");
+			continue;
+		}
 		if (js.point)  // a point constraint: its pivots, the rest of the joint's share zero
 		{
 			btVector3 inA, inB;

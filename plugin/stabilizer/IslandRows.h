@@ -5,6 +5,7 @@
 #define QUATHINGE_STABILIZER_ISLAND_ROWS_H
 
 #include "IslandContacts.h"
+#include "LockedRows.h"
 #include "PointRows.h"
 #include "StabilizerIsland.h"
 
@@ -59,8 +60,8 @@ PositionResidual evaluatePositions(BlockIsland<R>& island, btScalar tolerance)
 {
 	PositionResidual res;
 	const btScalar angularThreshold = angularRowThreshold(tolerance);
-	btScalar c[5];
-	btScalar jac[60];
+	btScalar c[6];  // up to 6 rows: a weld (LockedRows.h)
+	btScalar jac[72];
 	for (size_t j = 0; j < island.joints.size(); ++j)
 	{
 		JointSlot& js = island.joints[j];
@@ -82,10 +83,11 @@ PositionResidual evaluatePositions(BlockIsland<R>& island, btScalar tolerance)
 		// A joint with a limit slot also needs its angle row: both from one evaluation of the joint frames.
 		btVector3 g;
 		const int rows = js.point		? pointPositionRows(*js.point, tA, tB, c, jac)
+						 : js.locked	? lockedPositionRows(*js.locked, tA, tB, c, jac)
 						 : js.limitSlot ? js.joint->computePositionRows(tA, tB, c, jac, js.angleReference, js.angle, g)
 										: js.joint->computePositionRows(tA, tB, c, jac);
 		const int linearRows = js.linearRows;
-		btAssert(hasPointStructure(jac, rows, linearRows));
+		btAssert(js.generalLinear || hasPointStructure(jac, rows, linearRows));
 		btScalar linear = 0, angular = 0;
 		for (int r = 0; r < rows; ++r)
 		{
@@ -99,6 +101,13 @@ PositionResidual evaluatePositions(BlockIsland<R>& island, btScalar tolerance)
 			btScalar& worst = r < linearRows ? linear : angular;
 			worst = btMax(worst, btFabs(c[r]));
 		}
+		if (__builtin_expect(js.generalLinear, 0))  // a locked 6-dof: its linear part turns with body A
+			for (int r = 0; r < rows; ++r)
+				for (int k = 0; k < 3; ++k)
+				{
+					jb.jacobian(r, k) = jac[12 * r + k];
+					jb.jacobian(r, 6 + k) = jac[12 * r + 6 + k];
+				}
 		// The pivot's rounding floor at the larger of the two bodies' coordinates.
 		const btScalar coordinate = btMax(maxAbs(tA.getOrigin()), maxAbs(tB.getOrigin()));
 		const btScalar linearThreshold = linearRowThreshold(tolerance, coordinate);

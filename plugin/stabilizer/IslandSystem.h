@@ -76,8 +76,8 @@ void assembleContactDiagonal(const BlockIsland<R>& island, const JointSlot& js, 
 		}
 }
 
-// A coupling with a contact slot on one side: J_i,lin diag(m⁻¹) J_j,linᵀ (a joint's linear part, ±I or 0, is in its
-// stored J as well).
+// A coupling with a general linear part on one side (a contact slot, a locked 6-dof): J_i,lin diag(m⁻¹) J_j,linᵀ (a
+// joint's linear part, ±I or 0, is in its stored J as well).
 template <int R>
 void addContactLinearProduct(const BlockIsland<R>& island, const Coupling& c, Block<R>& b)
 {
@@ -113,6 +113,12 @@ double assemble(BlockIsland<R>& island, double regularization)
 			else addSideProduct<R, true, true>(d, jb.jacobian, 6 * s + 3, jb.h[s]);
 			first = false;
 			if (js.linearSign[s] != 0) d.template topLeftCorner<3, 3>().diagonal() += island.bodies[js.body[s]].invMass;
+			else if (__builtin_expect(js.generalLinear, 0))  // a locked 6-dof: L diag(m⁻¹) Lᵀ
+			{
+				const auto linear = jb.jacobian.template block<R, 3>(0, 6 * s);
+				d.template topLeftCorner<R, R>().noalias() +=
+					linear * island.bodies[js.body[s]].invMass.asDiagonal() * linear.transpose();
+			}
 		}
 		if (first) d.setZero();  // no movable side (not in an island; kept total)
 		for (int r = 0; r < js.bilateralRows; ++r) trace += d(r, r);
@@ -124,14 +130,14 @@ double assemble(BlockIsland<R>& island, double regularization)
 		}
 	}
 	for (Block<R>& b : island.k.lower) b.setZero();
-	const bool contacts = !island.contacts.empty();
+	const bool generalLinear = island.generalLinear;
 	for (const Coupling& c : island.couplings)
 	{
 		const JointSlot& ji = island.joints[c.i];
 		const JointSlot& jj = island.joints[c.j];
 		Block<R>& b = island.k.lower[c.block];
 		addSideProduct<R, false, true>(b, island.blocks[c.i].jacobian, 6 * c.sideI + 3, island.blocks[c.j].h[c.sideJ]);
-		if (contacts && (ji.contact >= 0 || jj.contact >= 0))  // a contact slot's linear part is general
+		if (generalLinear && (ji.generalLinear || jj.generalLinear))  // a contact's or locked 6-dof's linear part
 		{
 			addContactLinearProduct(island, c, b);
 			continue;
@@ -208,7 +214,7 @@ void accumulateDeltas(BlockIsland<R>& island)
 			if (js.body[s] < 0) continue;
 			IslandBody& b = island.bodies[js.body[s]];
 			if (js.linearSign[s] != 0) b.delta.head<3>() += js.linearSign[s] * b.invMass.cwiseProduct(lambda.template head<3>());
-			else if (js.contact >= 0)  // a contact slot's linear part is n per row, not ±I
+			else if (js.generalLinear)  // a contact slot's linear part is n per row, a locked 6-dof's frame A's axes
 				b.delta.head<3>() += b.invMass.cwiseProduct(
 					jb.jacobian.template block<R, 3>(0, 6 * s).transpose() * lambda.template head<R>());
 			b.delta.tail<3>().noalias() += jb.h[s] * lambda.template head<R>();

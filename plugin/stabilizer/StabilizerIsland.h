@@ -2,7 +2,8 @@
 //
 // Discovery: every enabled btQuaternionHingeConstraint of the world with at least one movable body (dynamic and
 // active; static, kinematic and sleeping bodies are fixed: infinite mass, never moved), with projectPointConstraints
-// also every btPoint2PointConstraint and (not angular-only) btConeTwistConstraint (PointRows.h), less what the
+// also every btPoint2PointConstraint and (not angular-only) btConeTwistConstraint (PointRows.h), with
+// projectLockedConstraints every 6-dof with its angles locked at 0 (LockedRows.h), less what the
 // user's filter leaves out (btQuaternionHingeStabilizer::setFilter). The scan is summarized as a
 // signature (joint, bodies, which are movable, row counts); while it equals the cached one the islands are reused
 // as they are, with their block pattern, joint numbering and symbolic analysis. When it changes, an island whose own
@@ -12,10 +13,12 @@
 // non-parent bodies, then its joints to its parent, after all of its subtree. For an island without closed loops
 // this is a perfect elimination order of K (the later neighbours of each joint all share one body), so BlockLDLT
 // factorizes it without fill; with loops BlockLDLT::analyze refuses and the island uses SparseLDLT.
-// Rows of joint j: its bilateral rows (5, 2 when angular-only, 3 for a point constraint) at [0, bilateral), the point
+// Rows of joint j: its bilateral rows (5, 2 when angular-only, 3 for a point constraint, one per locked linear axis
+// and 3 angular for a locked 6-dof) at [0, bilateral), the point
 // rows first; then, for a joint with a limit
 // (and projectLimits), one limit slot that is a structural zero row while the limit is not violated.
-// Block size: an island in which some joint has a limit slot works in 6-row blocks, any other in 5-row blocks
+// Block size: an island in which some joint has a limit slot or 6 rows (a weld) works in 6-row blocks, any other in
+// 5-row blocks
 // (BlockMatrix.h; the assembly and factorization of K cost about (5/6)² as much); chosen when the island is built.
 #ifndef QUATHINGE_STABILIZER_ISLAND_H
 #define QUATHINGE_STABILIZER_ISLAND_H
@@ -54,17 +57,19 @@ struct SignatureEntry
 		kMovableB = 2,
 		kAngularOnly = 4,
 		kLimitSlot = 8,
-		kContact = 16  // a contact slot (projectContacts: IslandContacts.h): body[1] null for the fixed partners
+		kContact = 16,  // a contact slot (projectContacts: IslandContacts.h): body[1] null for the fixed partners
+		kLockedAxis0 = 32  // a locked 6-dof (projectLockedConstraints: LockedRows.h): its locked linear axes, bits 5–7
 	};
 	btQuaternionHingeConstraint* joint;  // a quaternion hinge, or null for a point constraint
 	btTypedConstraint* point;            // a point constraint (projectPointConstraints: PointRows.h), or null
+	btTypedConstraint* locked = nullptr;  // a locked 6-dof (projectLockedConstraints: LockedRows.h), or null
 	btRigidBody* body[2];
 	unsigned flags;
 	long long order = 0;  // a contact entry's place (scanContacts sorts by it); not part of the signature
 	bool operator==(const SignatureEntry& o) const
 	{
-		return joint == o.joint && point == o.point && body[0] == o.body[0] && body[1] == o.body[1] &&
-			   flags == o.flags;
+		return joint == o.joint && point == o.point && locked == o.locked && body[0] == o.body[0] &&
+			   body[1] == o.body[1] && flags == o.flags;
 	}
 };
 
@@ -78,10 +83,10 @@ struct UpcastCache
 	Array<btQuaternionHingeConstraint*> hinges;
 };
 
-/// Appends the world's enabled quaternion hinges (and, with projectPoints, its point constraints: PointRows.h) with a
-/// movable body that `filter` (if any) keeps, in constraint order, to out (cleared first); returns how many the filter
-/// left out.
-int scanWorld(btDynamicsWorld& world, bool projectLimits, bool projectPoints,
+/// Appends the world's enabled quaternion hinges (and, with projectPoints, its point constraints: PointRows.h; with
+/// projectLocked, its locked 6-dofs: LockedRows.h) with a movable body that `filter` (if any) keeps, in constraint
+/// order, to out (cleared first); returns how many the filter left out.
+int scanWorld(btDynamicsWorld& world, bool projectLimits, bool projectPoints, bool projectLocked,
 			  const btQuaternionHingeStabilizerFilter* filter, UpcastCache& upcasts, Array<SignatureEntry>& out);
 
 struct IslandBody
@@ -123,13 +128,17 @@ struct ContactSet
 
 struct JointSlot
 {
-	btQuaternionHingeConstraint* joint;  // null for a point constraint or a contact slot
+	btQuaternionHingeConstraint* joint;  // null for a point constraint, a locked 6-dof or a contact slot
 	btTypedConstraint* point;            // a point constraint (PointRows.h), else null
+	btTypedConstraint* locked;           // a locked 6-dof (LockedRows.h), else null
 	int contact;                         // a contact slot: its index in Island::contacts, else −1
+	// J's linear part is general (a contact slot's n per row, a locked 6-dof's frame-A axes), not linearSign·I:
+	// written with the rows at every evaluation, and taken by the general products (IslandSystem.h)
+	bool generalLinear;
 	btRigidBody* rigid[2];  // A, B
 	int body[2];            // island body index of A, B; −1 for a fixed body
-	int bilateralRows;      // 5, 2 when angular-only, 3 for a point constraint
-	int linearRows;         // of which the point rows (first): 3, or 0 when angular-only
+	int bilateralRows;      // 5, 2 when angular-only, 3 for a point constraint, 3–6 for a locked 6-dof
+	int linearRows;         // of which the point rows (first): 3, 0 when angular-only, the locked axes' for a 6-dof
 	bool limitSlot;         // row bilateralRows is the limit row
 	int rows;               // bilateralRows + limitSlot
 
@@ -209,6 +218,7 @@ struct Island
 	Array<SignatureEntry> entries;  // the scan's entries it was built from, in scan order (kept while they stay)
 	Array<JointSlot> joints;  // in elimination order
 	Array<ContactSet> contacts;  // the contact slots' points this step (projectContacts), by JointSlot::contact
+	bool generalLinear = false;  // some slot's J has a general linear part (JointSlot::generalLinear)
 	BlockPattern pattern;
 	Array<Coupling> couplings;
 	bool treeOrdered = false;  // BlockLDLT accepted the numbering (no fill)

@@ -91,6 +91,7 @@ void btQuaternionHingeStabilizer::setSettings(const btQuaternionHingeStabilizerS
 	// projectLimits and solver change the islands' structure.
 	if (settings.projectLimits != m_settings.projectLimits || settings.solver != m_settings.solver ||
 		settings.projectPointConstraints != m_settings.projectPointConstraints ||
+		settings.projectLockedConstraints != m_settings.projectLockedConstraints ||
 		settings.projectContacts != m_settings.projectContacts)
 		invalidateStructure();
 	// a kept projection was made with the old settings
@@ -125,8 +126,8 @@ const btQuaternionHingeStabilizerStats& btQuaternionHingeStabilizer::stabilize(b
 	m_stats = btQuaternionHingeStabilizerStats();
 
 	Impl& impl = *m_impl;
-	m_stats.filteredJoints = scanWorld(*world, m_settings.projectLimits, m_settings.projectPointConstraints, m_filter,
-									   impl.upcasts, impl.scan);
+	m_stats.filteredJoints = scanWorld(*world, m_settings.projectLimits, m_settings.projectPointConstraints,
+									   m_settings.projectLockedConstraints, m_filter, impl.upcasts, impl.scan);
 	if (m_settings.projectContacts) scanContacts(*world->getDispatcher(), impl.scan, impl.contactIndex);
 	if (!impl.built || impl.scan.size() != impl.signature.size() ||
 		!std::equal(impl.scan.begin(), impl.scan.end(), impl.signature.begin()))

@@ -13,8 +13,10 @@ projects the bodies held by btQuaternionHingeConstraints back onto their joints:
 
 What it projects. Only btQuaternionHingeConstraints (btQuaternionHingeConstraint::upcast) that
 are enabled (a disabled or broken joint is skipped), have at least one movable body and, when a filter is set
-(setFilter), are kept by it; with projectPointConstraints, also the pivots of btPoint2PointConstraints and
-btConeTwistConstraints (three point rows each). A movable body is dynamic and
+(setFilter), are kept by it; with projectPointConstraints, also the pivots of btPoint2PointConstraints,
+btConeTwistConstraints and 6-dofs with their linear axes locked (three point rows each); with
+projectLockedConstraints, also 6-dofs with their angles locked at 0, sliders and welds (a row per locked linear axis
+and three angular rows). A movable body is dynamic and
 active: static and kinematic bodies (infinite mass) and sleeping bodies are never moved, and do not connect islands.
 The joints are grouped into islands (connected through shared movable bodies); each island is solved on its own.
 Rows: the joint's bilateral rows (3 linear + 2 quaternion, 2 when angular-only) and, for a joint with a limit, one
@@ -23,7 +25,8 @@ row along the hinge axis while the multi-turn angle is past a stop: an inequalit
 joint the stabilizer reads getMultiTurnAngle(), which keeps the joint tracking its angle (as its limit needs anyway).
 Drives (motor, servo, spring) and friction are never projected: their row is along the hinge axis, which the
 bilateral rows leave free, so the projection does not undo a drive's work.
-Other constraint types (and, unless projectPointConstraints is on, point constraints) and, unless projectContacts is
+Other constraint types (and, unless projectPoint/LockedConstraints is on, point constraints and locked 6-dofs) and,
+unless projectContacts is
 on, contacts are not seen as rows. A ragdoll lying on the ground can therefore be pushed into
 the ground, by at most the correction it receives (the position error the solver left, typically well below a
 millimetre); the contact solver pushes it out again in the next step. To keep that small, a body touching something
@@ -132,6 +135,16 @@ struct btQuaternionHingeStabilizerSettings
 	/// hinges and cone twists then holds together at every joint. They go through the filter as well. Off (the
 	/// default): only quaternion hinges; other constraints are not seen.
 	bool projectPointConstraints = false;
+	/// Also project the 6-dofs whose three angles are locked at 0 — a slider (btGeneric6DofSpring2Constraint with one
+	/// or two linear axes free or limited: a URDF prismatic joint as pybullet builds it) or a weld (all six locked;
+	/// btFixedConstraint) — as rows of the same islands: one per locked linear axis along frame A's axes and three for
+	/// the relative rotation (docs/MATH.md, "Locked 6-dofs"); a free axis's limits and motors are Bullet's alone. A
+	/// gripper's fingers on their slides then hold with the arm (Bullet's Panda in float: 7.8e-7 m off their slide
+	/// lines, against 1.1e-2 m without the stabilizer and 5.3e-2 m with it and this off), and a slider inside a chain
+	/// no longer keeps the error Bullet's solver left it while the hinges around it are closed. The host shares the
+	/// correction and momentum is conserved (closeAttachedConstraints, by contrast, moves the attached body alone).
+	/// They go through the filter as well. Off (the default): not seen; a weld's island works in 6-row blocks.
+	bool projectLockedConstraints = false;
 	/// Project contacts too: an island body touching static (or sleeping) bodies gets a contact slot of up to 5 or 6
 	/// rows (its deepest points), two island bodies touching each other a pair slot. A row is one-sided: it enters once
 	/// its point penetrates by more than the tolerance, then holds it at zero penetration for the rest of the step,
@@ -196,7 +209,7 @@ struct btQuaternionHingeStabilizerStats
 	int positionsWithinTolerance = 0;   ///< islands projected whose joint error was already within tolerance: no Newton step
 	int velocitiesWithinTolerance = 0;  ///< islands projected whose J v was already within tolerance: no velocity solve
 	int sparseIslands = 0;        ///< of which solved by the general sparse LDLᵀ (closed loops, or forced)
-	int joints = 0;               ///< joints projected (point constraints included: projectPointConstraints)
+	int joints = 0;  ///< joints projected (point constraints and locked 6-dofs included: projectPoint/LockedConstraints)
 	int filteredJoints = 0;       ///< joints the filter left out (setFilter): not projected, not counted above
 	int bodies = 0;               ///< movable bodies in those islands
 	int attachedBodiesMoved = 0;  ///< attached bodies carried with their host (moveAttachedBodies)
