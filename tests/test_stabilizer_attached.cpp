@@ -9,6 +9,7 @@
 #include "JointKinds.h"
 #include "SceneSpec.h"
 #include "Simulation.h"
+#include "support/SliderRuns.h"
 #endif
 
 #include <gtest/gtest.h>
@@ -267,16 +268,8 @@ TEST(StabilizerAttached, PandasFingersAreNotLeftBehindByTheStabilizer)
 	ASSERT_TRUE(panda.unavailable.empty()) << panda.unavailable;
 	ASSERT_EQ(panda.sliders.size(), 2u);
 	const auto run = [&](Kind kind, bool carry, bool close = false) {
-		Simulation sim(panda, kind);
-		if (sim.stabilizer()) sim.stabilizer()->setSettings(carrying(carry, close));
-		double worst = 0, hinges = 0;
-		for (int i = 0; i < 180; ++i)
-		{
-			sim.step(1.0 / 60, 10);
-			for (const MeasuredJoint& s : sim.sliders) worst = std::max(worst, measureSliderSeparation(s));
-			for (const MeasuredJoint& j : sim.joints) hinges = std::max(hinges, measureJointError(j).separation);
-		}
-		return std::make_pair(worst, hinges);
+		const qh_test::SliderRunErrors e = qh_test::runWithSliders(panda, kind, carrying(carry, close));
+		return std::make_pair(e.sliders, e.hinges);
 	};
 	const auto bare = run(Kind::Quaternion, false);
 	const auto leftBehind = run(Kind::QuaternionStabilized, false);

@@ -230,13 +230,8 @@ TEST(StabilizerPoints, HangingMixedChainAtRestIsReplayedAndAMovedPivotIsProjecte
 	EXPECT_EQ(stabilizer.getLastStats().factorizations, 0);
 	EXPECT_LE(pointSeparation(points), kSeparationTolerance);
 	// The pivot alone: the bodies put back as they were, the projection called directly (no solver step between).
-	std::vector<btTransform> poses;
-	for (int i = 0; i < scene.world().getNumCollisionObjects(); ++i)
-		poses.push_back(scene.world().getCollisionObjectArray()[i]->getWorldTransform());
-	auto putBack = [&] {
-		for (int i = 0; i < scene.world().getNumCollisionObjects(); ++i)
-			scene.world().getCollisionObjectArray()[i]->setWorldTransform(poses[size_t(i)]);
-	};
+	const std::vector<btTransform> poses = scene.poses();
+	auto putBack = [&] { scene.setPoses(poses); };
 	stabilizer.stabilize(&scene.world(), kTimeStep);  // keeps these inputs
 	putBack();
 	stabilizer.stabilize(&scene.world(), kTimeStep);

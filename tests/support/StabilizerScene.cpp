@@ -150,5 +150,19 @@ bool sameTransform(const btTransform& a, const btTransform& b)
 	return true;
 }
 
+std::vector<btTransform> StabilizerScene::poses() const
+{
+	std::vector<btTransform> out;
+	for (int i = 0; i < m_world->getNumCollisionObjects(); ++i)
+		out.push_back(m_world->getCollisionObjectArray()[i]->getWorldTransform());
+	return out;
+}
+
+void StabilizerScene::setPoses(const std::vector<btTransform>& poses)
+{
+	for (int i = 0; i < m_world->getNumCollisionObjects(); ++i)
+		m_world->getCollisionObjectArray()[i]->setWorldTransform(poses[size_t(i)]);
+}
+
 }  // namespace qh_test
 #endif  // QUATHINGE_HAVE_STABILIZER

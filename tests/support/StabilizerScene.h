@@ -62,6 +62,11 @@ public:
 
 	bool allFinite() const;
 
+	/// Every collision object's world transform, in the world's order; setPoses puts them back (a projection called
+	/// again on the same state, with no solver step between).
+	std::vector<btTransform> poses() const;
+	void setPoses(const std::vector<btTransform>& poses);
+
 	const std::vector<btQuaternionHingeConstraint*>& hinges() const { return m_hinges; }
 
 private:
