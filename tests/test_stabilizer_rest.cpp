@@ -22,21 +22,31 @@ struct RestWorld
 	btQuaternionHingeStabilizer stabilizer;
 	std::vector<btRigidBody*> links;
 
-	RestWorld(int chains, int linksPerChain, bool withLimits)
+	// limits: 0 none, 1 every joint within [−0.5, 0.5] rad (the chains hang clear of the stops), 2 every joint held
+	// at a stop, all axes along z (the first joint within [0.3, 0.6] rad, the others within [−0.6, −0.3]: each chain
+	// swings and comes to rest folded in its plane against its stops; with the axes alternating z and x the folded
+	// chains keep bouncing on their stops in a cycle of 20 steps at up to 0.16 m/s: not at rest)
+	RestWorld(int chains, int linksPerChain, int limits)
 	{
 		for (int c = 0; c < chains; ++c)
 		{
 			btRigidBody* previous = nullptr;
 			for (int i = 0; i < linksPerChain; ++i)
 			{
-				const btVector3 centre(btScalar(c), btScalar(-0.25 - 0.5 * i), 0);
+				// (chains 1 m apart; 3 m when folded, which reaches a neighbour 1 m away)
+				const btVector3 centre(btScalar(limits == 2 ? 3 * c : c), btScalar(-0.25 - 0.5 * i), 0);
 				btRigidBody* link = scene.box(btVector3(btScalar(0.05), btScalar(0.25), btScalar(0.05)), 1, centre);
-				const btVector3 axis = i % 2 == 0 ? btVector3(0, 0, 1) : btVector3(1, 0, 0);
+				const btVector3 axis = i % 2 == 0 || limits == 2 ? btVector3(0, 0, 1) : btVector3(1, 0, 0);
 				btQuaternionHingeConstraint* joint =
 					previous ? scene.hinge(*previous, *link, btVector3(0, btScalar(-0.25), 0),
 										   btVector3(0, btScalar(0.25), 0), axis, axis)
 							 : scene.hingeToWorld(*link, btVector3(0, btScalar(0.25), 0), axis);
-				if (withLimits) joint->setLimit(btScalar(-0.5), btScalar(0.5));
+				if (limits == 1) joint->setLimit(btScalar(-0.5), btScalar(0.5));
+				if (limits == 2)
+				{
+					if (previous) joint->setLimit(btScalar(-0.6), btScalar(-0.3));
+					else joint->setLimit(btScalar(0.3), btScalar(0.6));
+				}
 				links.push_back(link);
 				previous = link;
 			}
@@ -75,7 +85,7 @@ std::vector<unsigned char> state(const RestWorld& w)
 // Runs `steps` steps of two copies in lockstep (the second forgets its kept results before each step); `disturb`
 // (step index, world) is applied to both before each step. Returns the replaying world's resting-island count
 // summed over the steps; fails the test on the first step at which the two differ.
-int lockstep(int chains, int links, bool limits, int steps, const std::function<void(int, RestWorld&)>& disturb)
+int lockstep(int chains, int links, int limits, int steps, const std::function<void(int, RestWorld&)>& disturb)
 {
 	RestWorld replaying(chains, links, limits), projecting(chains, links, limits);
 	int resting = 0;
@@ -103,7 +113,7 @@ void nothing(int, RestWorld&) {}
 TEST(StabilizerRest, HangingChainsAtRestAreReplayedToTheBit)
 {
 	// 4 chains of 10 links kept awake: after a few steps every step is a replay, and the result is the projection's.
-	RestWorld w(4, 10, false);
+	RestWorld w(4, 10, 0);
 	for (int i = 0; i < 60; ++i) w.step();
 	const btQuaternionHingeStabilizerStats& stats = w.stabilizer.getLastStats();
 	EXPECT_EQ(stats.islands, 4);
@@ -115,13 +125,33 @@ TEST(StabilizerRest, HangingChainsAtRestAreReplayedToTheBit)
 	w.scene.jointErrors(separation, misalignmentDeg);
 	EXPECT_LE(separation, kSeparationTolerance);
 	EXPECT_LE(misalignmentDeg, kMisalignmentToleranceDeg);
-	EXPECT_GT(lockstep(4, 10, false, 120, nothing), 0);
+	EXPECT_GT(lockstep(4, 10, 0, 120, nothing), 0);
 }
 
 TEST(StabilizerRest, LimitedChainsAtRestAreReplayedToTheBit)
 {
 	// with a limit on every joint the projection also reads each joint's multi-turn angle
-	EXPECT_GT(lockstep(2, 6, true, 120, nothing), 0);
+	EXPECT_GT(lockstep(2, 6, 1, 120, nothing), 0);
+}
+
+TEST(StabilizerRest, ChainsRestingAgainstTheirStopsAreReplayedToTheBit)
+{
+	// Chains folded against their stops do not reach a fixed point: Bullet's stop rows and the projection settle into a
+	// cycle of two states (the bodies' velocities alternate to the bit). The rest cache keeps the last two projections
+	// and replays either; before, such an island was projected every step. Measured: 2 chains of 4 links, 300 steps,
+	// the last 100 all replays.
+	RestWorld w(2, 4, 2);
+	int resting = 0;
+	for (int i = 0; i < 300; ++i)
+	{
+		w.step();
+		if (i >= 200) resting += w.stabilizer.getLastStats().restingIslands;
+	}
+	EXPECT_EQ(resting, 200);  // both islands at every one of the last 100 steps
+	EXPECT_EQ(w.stabilizer.getLastStats().factorizations, 0);
+	EXPECT_GT(w.stabilizer.getLastStats().activeLimitRows, 0);  // at their stops
+	// and to the bit what the projection gives
+	EXPECT_GT(lockstep(2, 4, 2, 300, nothing), 0);
 }
 
 // A state for a projection to work on: every link 1 mm lower and falling at 5 cm/s (the solver's sag at rest).
@@ -196,7 +226,7 @@ TEST(StabilizerRest, EveryInputOfTheProjectionIsCompared)
 	int index = 0;
 	for (const auto& change : changes)
 	{
-		RestWorld replaying(1, 6, true), projecting(1, 6, true);
+		RestWorld replaying(1, 6, 1), projecting(1, 6, 1);
 		for (int i = 0; i < 30; ++i)
 		{
 			replaying.step();
@@ -248,7 +278,7 @@ TEST(StabilizerRest, AnythingThatChangesIsProjectedAgain)
 	};
 	for (const auto& change : changes)
 	{
-		const int resting = lockstep(2, 6, true, 200, change);
+		const int resting = lockstep(2, 6, 1, 200, change);
 		EXPECT_GT(resting, 0);
 	}
 }

@@ -144,23 +144,41 @@ bool replayIfAtRest(Island& island, btScalar timeStep, ProjectionResult& result)
 {
 	RestCache& cache = island.restCache;
 	gatherInputs(island, timeStep, cache.current);
-	const bool same = cache.valid && cache.current.size() == cache.inputs.size() &&
-					  std::memcmp(cache.current.data(), cache.inputs.data(), cache.current.size() * sizeof(btScalar)) == 0;
-	if (!same)
+	const size_t n = cache.current.size();
+	if (cache.state[0].inputs.size() != n)
 	{
-		// the island's first step: both arrays get their size now, so that no later swap leaves one to grow
-		if (cache.inputs.size() != cache.current.size()) cache.inputs.resize(cache.current.size());
-		cache.inputs.swap(cache.current);
-		cache.valid = false;
+		// the island's first step: every array gets its size now, so that no later swap or gather leaves one to grow
+		const size_t outputs = kOutputsPerBody * island.bodies.size();
+		for (RestState& s : cache.state)
+		{
+			s.inputs.resize(n);
+			s.outputs.resize(outputs);
+			s.valid = false;
+		}
+	}
+	// the last step's state first (a fixed point), then the one before (a cycle of two)
+	const int last = 1 - cache.pending;
+	const RestState* match = nullptr;
+	for (const int k : {last, cache.pending})
+		if (cache.state[k].valid && std::memcmp(cache.current.data(), cache.state[k].inputs.data(), n * sizeof(btScalar)) == 0)
+		{
+			match = &cache.state[k];
+			break;
+		}
+	if (!match)
+	{
+		RestState& into = cache.state[cache.pending];
+		into.inputs.swap(cache.current);
+		into.valid = false;
 		return false;
 	}
 	// The projection's effects, as it made them: every body's pose (and interpolation pose) and Bullet's world inverse
 	// inertia after a position iteration (movePositions, finishPositions), every body's velocities (and interpolation
 	// velocities) after a velocity solve (changeVelocities).
-	const ProjectionResult& last = cache.result;
-	const bool posesSet = last.iterations > 0;
-	const bool velocitiesSet = last.solves > last.iterations;
-	const btScalar* out = cache.outputs.data();
+	const ProjectionResult& kept = match->result;
+	const bool posesSet = kept.iterations > 0;
+	const bool velocitiesSet = kept.solves > kept.iterations;
+	const btScalar* out = match->outputs.data();
 	for (IslandBody& b : island.bodies)
 	{
 		btRigidBody& body = *b.rigid;
@@ -182,7 +200,7 @@ bool replayIfAtRest(Island& island, btScalar timeStep, ProjectionResult& result)
 		}
 		out += kOutputsPerBody;
 	}
-	result = last;
+	result = kept;
 	result.iterations = result.factorizations = result.solves = result.backtracks = result.metricSwitches = 0;
 	result.reused = true;
 	return true;
@@ -191,12 +209,17 @@ bool replayIfAtRest(Island& island, btScalar timeStep, ProjectionResult& result)
 void rememberProjection(Island& island, const ProjectionResult& result)
 {
 	RestCache& cache = island.restCache;
-	gatherOutputs(island, cache.outputs);
-	cache.result = result;
-	cache.valid = true;
+	RestState& into = cache.state[cache.pending];
+	gatherOutputs(island, into.outputs);
+	into.result = result;
+	into.valid = true;
+	cache.pending = 1 - cache.pending;  // the other state is now the older one
 }
 
-void forgetProjection(Island& island) { island.restCache.valid = false; }
+void forgetProjection(Island& island)
+{
+	for (RestState& s : island.restCache.state) s.valid = false;
+}
 
 }  // namespace stabilizer
 }  // namespace quathinge

@@ -5,9 +5,13 @@
 // velocities, each joint's frames, flags, limit and multi-turn angle, the step and the stabilizer's settings. A chain
 // hanging still under Bullet's solver reaches a fixed point to the bit: the solver, which does not warm-start joint
 // rows, lets it sag by the same amount every step (measured on 50 chains of 10 links at 60 Hz: 9.8e-4 m and 5.9e-2 m/s,
-// every step), and the projection lifts it back to the same state. When every one of those inputs equals, bit for bit,
-// what the projection read at the last step's start, its result is the last step's: it is applied as the projection
-// applied it (the same poses, the same inertia refresh, the same velocities) without a factorization, a row or a solve.
+// every step), and the projection lifts it back to the same state. A chain folded against its stops (or a body
+// hanging at a slider's stop) reaches a cycle of two states instead: Bullet's stop rows and the projection alternate
+// between them to the bit (measured: the bodies' velocities alternate; the bare world there reaches a fixed point).
+// So the last two projections are kept: when every one of those inputs equals, bit for bit, what the projection read
+// at the last step's start or at the start of the one before, its result is that step's: it is applied as the
+// projection applied it (the same poses, the same inertia refresh, the same velocities) without a factorization, a
+// row or a solve.
 // Exact by construction — nothing is approximated and nothing that moves, however slowly, is held (any changed bit runs
 // the projection). The check reads about 30 numbers per body and per joint; nothing is allocated after the
 // island's first step.
@@ -20,11 +24,12 @@ namespace quathinge
 {
 namespace stabilizer
 {
-/// If `island` starts this step exactly as it started the last one, applies the last projection's result to its
-/// bodies, sets `result` to it (its work counters zero) and returns true. Else keeps this step's inputs for
-/// rememberProjection and returns false. The joints' angle references must be this step's (readAngleReferences).
+/// If `island` starts this step exactly as it started the last one or the one before, applies that projection's
+/// result to its bodies, sets `result` to it (its work counters zero) and returns true. Else keeps this step's inputs
+/// (in place of the older of the two) for rememberProjection and returns false. The joints' angle references must be
+/// this step's (readAngleReferences).
 bool replayIfAtRest(Island& island, btScalar timeStep, ProjectionResult& result);
-/// After a projection of `island` (replayIfAtRest returned false): keeps its result for the next step.
+/// After a projection of `island` (replayIfAtRest returned false): keeps its result for the next two steps.
 void rememberProjection(Island& island, const ProjectionResult& result);
 /// Forgets every island's kept result (the settings changed).
 void forgetProjection(Island& island);

@@ -198,13 +198,20 @@ struct ProjectionResult
 };
 
 /// The last projection of an island, kept to replay while the island is at rest (IslandRestCache.h).
+struct RestState
+{
+	Array<btScalar> inputs;   // what the projection read at that step's start
+	Array<btScalar> outputs;  // per body: its transform and velocities after the projection
+	ProjectionResult result;  // that projection's (its counters also say which of the bodies' state it set)
+	bool valid = false;
+};
+/// The last two projections: an island at rest under Bullet's solver reaches a fixed point, or, with a stop or a
+/// slider's stop held, a cycle of two states (IslandRestCache.h); either is replayed.
 struct RestCache
 {
-	Array<btScalar> inputs;   // what the projection read at the last step's start
-	Array<btScalar> current;  // this step's, gathered to compare (kept to avoid allocating)
-	Array<btScalar> outputs;  // per body: its transform and velocities after the projection
-	ProjectionResult result;  // the last projection's (its counters also say which of the bodies' state it set)
-	bool valid = false;
+	RestState state[2];
+	Array<btScalar> current;  // this step's inputs, gathered to compare (kept to avoid allocating)
+	int pending = 0;          // the state a projection that runs now goes into (the older one)
 };
 
 /// What every island holds; the block-sized data is in BlockIsland<blockRows>.

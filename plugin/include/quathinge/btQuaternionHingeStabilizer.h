@@ -65,9 +65,10 @@ of the step works in M, whose factorization the velocity projection shares (else
 What it leaves out. An island already within tolerance gets no Newton step, and one whose J v is within tolerance no
 velocity solve. An island at rest gets nothing computed: when every input of its projection (the bodies' poses,
 velocities, mass properties and contact flags, the fixed partners' poses and velocities, the joints' frames, flags,
-limits and multi-turn angles, the step) is bit for bit what it was at the last step's start, the last step's result
-is applied again — exact, since the projection is a deterministic function of them. Chains hanging still under
-Bullet's solver reach such a fixed point (the solver lets them sag by the same amount every step), so a world of
+limits and multi-turn angles, the step) is bit for bit what it was at the last step's start or the one before, that
+step's result is applied again — exact, since the projection is a deterministic function of them. Chains hanging still
+under Bullet's solver reach such a fixed point (the solver lets them sag by the same amount every step), chains folded
+against their stops a cycle of two states, so a world of
 ragdolls kept awake at rest costs a check of about 30 numbers per body and joint (getLastStats: restingIslands,
 positionsWithinTolerance, velocitiesWithinTolerance). Sleeping bodies are never moved, and an island of them is not
 built at all. The world's constraints are cast to quaternion hinges once, not every step.
@@ -202,9 +203,10 @@ struct btQuaternionHingeStabilizerStats
 	int islands = 0;              ///< islands projected (replayed ones included)
 	/// Islands at rest, left out: every input of their projection (the bodies' poses, velocities and mass properties,
 	/// the fixed partners' poses and velocities, the joints' frames, flags, limits and multi-turn angles, the step)
-	/// was, bit for bit, what it was at the last step's start, so the last step's result was applied again without
-	/// computing anything (exact: the projection is a deterministic function of them). A hanging chain kept awake
-	/// reaches such a fixed point under Bullet's solver; their counters below are zero, their residuals the last ones.
+	/// was, bit for bit, what it was at the last step's start or the one before, so that step's result was applied
+	/// again without computing anything (exact: the projection is a deterministic function of them). A hanging chain
+	/// kept awake reaches such a fixed point under Bullet's solver, a chain folded against its stops a cycle of two
+	/// states; their counters below are zero, their residuals the kept ones.
 	int restingIslands = 0;
 	int positionsWithinTolerance = 0;   ///< islands projected whose joint error was already within tolerance: no Newton step
 	int velocitiesWithinTolerance = 0;  ///< islands projected whose J v was already within tolerance: no velocity solve
