@@ -54,8 +54,10 @@ int scanWorld(btDynamicsWorld& world, bool projectLimits, bool projectPoints, bo
 			upcasts.hinges[size_t(i)] = hinge;
 		}
 		if (!c->isEnabled()) continue;
-		const bool point = !hinge && projectPoints && hasPointRows(*c);
-		const bool locked = !hinge && !point && projectLocked && hasLockedRows(*c);
+		// a 6-dof's locks, read once for both options (and not at all with both off)
+		const DofLocks locks = !hinge && (projectPoints || projectLocked) ? dofLocks(*c) : DofLocks();
+		const bool point = !hinge && projectPoints && hasPointRows(*c, locks);
+		const bool locked = !hinge && !point && projectLocked && hasLockedRows(locks);
 		if (!hinge && !point && !locked) continue;
 		SignatureEntry e;
 		e.joint = hinge;
@@ -77,7 +79,7 @@ int scanWorld(btDynamicsWorld& world, bool projectLimits, bool projectPoints, bo
 		}
 		if (point || locked)
 		{
-			if (locked) e.flags |= lockedLinearAxes(*c) * SignatureEntry::kLockedAxis0;
+			if (locked) e.flags |= lockedLinearAxes(locks) * SignatureEntry::kLockedAxis0;
 			out.push_back(e);
 			continue;
 		}
@@ -267,7 +269,6 @@ std::unique_ptr<Island> buildOne(const Array<SignatureEntry>& entries, bool forc
 		slot.point = e.point;
 		slot.locked = e.locked;
 		slot.contact = -1;
-		slot.generalLinear = false;
 		slot.rigid[0] = e.body[0];
 		slot.rigid[1] = e.body[1];
 		slot.body[0] = a;
@@ -280,7 +281,7 @@ std::unique_ptr<Island> buildOne(const Array<SignatureEntry>& entries, bool forc
 			for (int i = 0; i < 3; ++i)
 				if (e.flags & (SignatureEntry::kLockedAxis0 << i)) ++slot.linearRows;
 			slot.bilateralRows = slot.linearRows + 3;
-			slot.generalLinear = island.generalLinear = true;
+			island.generalLinear = true;
 		}
 		slot.limitSlot = (e.flags & SignatureEntry::kLimitSlot) != 0;
 		slot.rows = slot.bilateralRows + (slot.limitSlot ? 1 : 0);
@@ -296,7 +297,7 @@ std::unique_ptr<Island> buildOne(const Array<SignatureEntry>& entries, bool forc
 			if (slot.body[1] < 0) island.bodies[size_t(slot.body[0])].contactSet = slot.contact;
 			slot.bilateralRows = 0;
 			slot.rows = slot.linearRows = island.blockRows;
-			slot.generalLinear = island.generalLinear = true;
+			island.generalLinear = true;
 		}
 		slot.angleReference = slot.angle = 0;
 		slot.limitActive = slot.limitActiveInFactor = false;
@@ -305,8 +306,7 @@ std::unique_ptr<Island> buildOne(const Array<SignatureEntry>& entries, bool forc
 		slot.limitGradient.setZero();
 		for (int side = 0; side < 2; ++side)
 			slot.linearSign[side] =
-				((e.flags & (SignatureEntry::kAngularOnly | SignatureEntry::kContact)) || slot.generalLinear) ? 0
-																								  : (side == 0 ? -1 : 1);
+				((e.flags & SignatureEntry::kAngularOnly) || slot.generalLinear()) ? 0 : (side == 0 ? -1 : 1);
 		island.joints.push_back(slot);
 	}
 

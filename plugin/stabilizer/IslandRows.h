@@ -87,7 +87,7 @@ PositionResidual evaluatePositions(BlockIsland<R>& island, btScalar tolerance)
 						 : js.limitSlot ? js.joint->computePositionRows(tA, tB, c, jac, js.angleReference, js.angle, g)
 										: js.joint->computePositionRows(tA, tB, c, jac);
 		const int linearRows = js.linearRows;
-		btAssert(js.generalLinear || hasPointStructure(jac, rows, linearRows));
+		btAssert(js.generalLinear() || hasPointStructure(jac, rows, linearRows));
 		btScalar linear = 0, angular = 0;
 		for (int r = 0; r < rows; ++r)
 		{
@@ -101,7 +101,7 @@ PositionResidual evaluatePositions(BlockIsland<R>& island, btScalar tolerance)
 			btScalar& worst = r < linearRows ? linear : angular;
 			worst = btMax(worst, btFabs(c[r]));
 		}
-		if (__builtin_expect(js.generalLinear, 0))  // a locked 6-dof: its linear part turns with body A
+		if (__builtin_expect(js.generalLinear(), 0))  // a locked 6-dof: its linear part turns with body A
 			for (int r = 0; r < rows; ++r)
 				for (int k = 0; k < 3; ++k)
 				{

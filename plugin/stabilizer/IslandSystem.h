@@ -113,7 +113,7 @@ double assemble(BlockIsland<R>& island, double regularization)
 			else addSideProduct<R, true, true>(d, jb.jacobian, 6 * s + 3, jb.h[s]);
 			first = false;
 			if (js.linearSign[s] != 0) d.template topLeftCorner<3, 3>().diagonal() += island.bodies[js.body[s]].invMass;
-			else if (__builtin_expect(js.generalLinear, 0))  // a locked 6-dof: L diag(m⁻¹) Lᵀ
+			else if (__builtin_expect(js.generalLinear(), 0))  // a locked 6-dof: L diag(m⁻¹) Lᵀ
 			{
 				const auto linear = jb.jacobian.template block<R, 3>(0, 6 * s);
 				d.template topLeftCorner<R, R>().noalias() +=
@@ -137,7 +137,7 @@ double assemble(BlockIsland<R>& island, double regularization)
 		const JointSlot& jj = island.joints[c.j];
 		Block<R>& b = island.k.lower[c.block];
 		addSideProduct<R, false, true>(b, island.blocks[c.i].jacobian, 6 * c.sideI + 3, island.blocks[c.j].h[c.sideJ]);
-		if (generalLinear && (ji.generalLinear || jj.generalLinear))  // a contact's or locked 6-dof's linear part
+		if (generalLinear && (ji.generalLinear() || jj.generalLinear()))  // a contact's or locked 6-dof's linear part
 		{
 			addContactLinearProduct(island, c, b);
 			continue;
@@ -214,7 +214,7 @@ void accumulateDeltas(BlockIsland<R>& island)
 			if (js.body[s] < 0) continue;
 			IslandBody& b = island.bodies[js.body[s]];
 			if (js.linearSign[s] != 0) b.delta.head<3>() += js.linearSign[s] * b.invMass.cwiseProduct(lambda.template head<3>());
-			else if (js.generalLinear)  // a contact slot's linear part is n per row, a locked 6-dof's frame A's axes
+			else if (js.generalLinear())  // a contact slot's linear part is n per row, a locked 6-dof's frame A's axes
 				b.delta.head<3>() += b.invMass.cwiseProduct(
 					jb.jacobian.template block<R, 3>(0, 6 * s).transpose() * lambda.template head<R>());
 			b.delta.tail<3>().noalias() += jb.h[s] * lambda.template head<R>();

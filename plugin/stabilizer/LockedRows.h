@@ -26,18 +26,13 @@ namespace quathinge
 {
 namespace stabilizer
 {
-/// A 6-dof whose three angles are locked at 0: a slider or a weld.
-inline bool hasLockedRows(const btTypedConstraint& c)
-{
-	const DofLocks k = dofLocks(c);
-	return k.isDof && k.anglesLockedAtZero;
-}
+/// A 6-dof whose three angles are locked at 0 (`locks`: its dofLocks): a slider or a weld.
+inline bool hasLockedRows(const DofLocks& locks) { return locks.isDof && locks.anglesLockedAtZero; }
 
 /// Its locked linear axes as bits (bit i: axis i of frame A).
-inline unsigned lockedLinearAxes(const btTypedConstraint& c)
+inline unsigned lockedLinearAxes(const DofLocks& locks)
 {
-	const DofLocks k = dofLocks(c);
-	return (k.linear[0] ? 1u : 0u) | (k.linear[1] ? 2u : 0u) | (k.linear[2] ? 4u : 0u);
+	return (locks.linear[0] ? 1u : 0u) | (locks.linear[1] ? 2u : 0u) | (locks.linear[2] ? 4u : 0u);
 }
 
 /// C and J (rows of 12: v_A, ω_A, v_B, ω_B) at the given transforms: the locked linear axes' rows, then the three

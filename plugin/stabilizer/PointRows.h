@@ -56,14 +56,15 @@ inline DofLocks dofLocks(const btTypedConstraint& c)
 	return k;
 }
 
-inline bool hasPointRows(const btTypedConstraint& c)
+/// `locks`: dofLocks(c), read once by a caller that needs it too.
+inline bool hasPointRows(const btTypedConstraint& c, const DofLocks& locks)
 {
 	if (c.getConstraintType() == POINT2POINT_CONSTRAINT_TYPE) return true;
 	if (c.getConstraintType() == CONETWIST_CONSTRAINT_TYPE)
 		return !static_cast<const btConeTwistConstraint&>(c).getAngularOnly();
-	const DofLocks k = dofLocks(c);
-	return k.allLinear && !k.anglesLockedAtZero;
+	return locks.allLinear && !locks.anglesLockedAtZero;
 }
+inline bool hasPointRows(const btTypedConstraint& c) { return hasPointRows(c, dofLocks(c)); }
 
 /// The pivots in A's and B's centre-of-mass frames, as the constraint holds them now (a constraint hasPointRows takes).
 inline void pointPivots(const btTypedConstraint& c, btVector3& inA, btVector3& inB)

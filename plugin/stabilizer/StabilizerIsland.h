@@ -134,7 +134,7 @@ struct JointSlot
 	int contact;                         // a contact slot: its index in Island::contacts, else −1
 	// J's linear part is general (a contact slot's n per row, a locked 6-dof's frame-A axes), not linearSign·I:
 	// written with the rows at every evaluation, and taken by the general products (IslandSystem.h)
-	bool generalLinear;
+	bool generalLinear() const { return contact >= 0 || locked != nullptr; }
 	btRigidBody* rigid[2];  // A, B
 	int body[2];            // island body index of A, B; −1 for a fixed body
 	int bilateralRows;      // 5, 2 when angular-only, 3 for a point constraint, 3–6 for a locked 6-dof
@@ -225,7 +225,7 @@ struct Island
 	Array<SignatureEntry> entries;  // the scan's entries it was built from, in scan order (kept while they stay)
 	Array<JointSlot> joints;  // in elimination order
 	Array<ContactSet> contacts;  // the contact slots' points this step (projectContacts), by JointSlot::contact
-	bool generalLinear = false;  // some slot's J has a general linear part (JointSlot::generalLinear)
+	bool generalLinear = false;  // some slot's J has a general linear part (JointSlot::generalLinear())
 	BlockPattern pattern;
 	Array<Coupling> couplings;
 	bool treeOrdered = false;  // BlockLDLT accepted the numbering (no fill)
