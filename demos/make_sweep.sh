@@ -3,7 +3,8 @@
 # btHingeConstraint on every scene of the library, the URDF robots and the inertia-ratio family, at 10, 20, 50, 100
 # and 250 iterations, each scene at its own step:
 #   bash demos/make_sweep.sh [--publish] [out-dir]   (default demos/out/sweep, git-ignored; under a minute on two cores)
-# Writes sweep.csv (quathinge-sweep's runs), sweep_report.md and sweep.png into out-dir; --publish also copies the plot
+# Writes sweep.csv (quathinge-sweep's runs), matched.csv (the same from matched states), sweep_report.md and sweep.png
+# into out-dir; --publish also copies the plot
 # to docs/images/row_basis_sweep.png and the report into README.md between <!-- sweep:begin/end -->. The other bases
 # and orders (docs/ROW_BASIS.md) are `quathinge-sweep -b ...`. QUATHINGE_SWEEP_BUILD picks the build (default build).
 set -euo pipefail
@@ -24,12 +25,15 @@ scenes=(pendulum chain10 chain30 chain100 heavy10 heavy100 heavy1000 heavy10000 
         inertia_ratio inertia_ratio_10 inertia_ratio_100 inertia_ratio_1000)
 "$build/demos/quathinge-sweep" -s "${scenes[@]}" -b stock radial --orders point-first -i 10 20 50 100 250 -j 2 \
   -o "$out/sweep.csv" >"$out/sweep.txt"
+# the same scenes and rows stepped from matched states: each kind's trajectory, both kinds' rows (docs/ROW_BASIS.md)
+"$build/demos/quathinge-sweep" --matched -s "${scenes[@]}" -b radial --orders point-first -i 10 20 50 100 250 -j 2 \
+  -o "$out/matched.csv" >"$out/matched.txt"
 # the source the runs came from (what --publish writes, README.md and the plot, is not a change to it)
 revision="$(git rev-parse --short HEAD 2>/dev/null || echo unknown)$(git diff --quiet HEAD -- . ':!README.md' ':!docs/images' \
   2>/dev/null || echo ' + local changes')"
 note="Measured by \`bash demos/make_sweep.sh\` on $(lscpu | sed -n 's/^Model name: *//p' | head -1), $(date -u +%Y-%m-%d); \
 source $revision; Bullet $(pkg-config --modversion bullet) float."
-/usr/bin/python3 demos/sweep_report.py "$out/sweep.csv" --out "$out" --note "$note"
+/usr/bin/python3 demos/sweep_report.py "$out/sweep.csv" --matched "$out/matched.csv" --out "$out" --note "$note"
 if [ "$publish" = 1 ]; then
   cp "$out/sweep.png" docs/images/row_basis_sweep.png
   /usr/bin/python3 - "$out/sweep_report.md" <<'PY'

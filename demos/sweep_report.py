@@ -6,6 +6,9 @@ and writes, for one basis and order against `stock`:
   sweep_report.md  the ratio table (max and RMS separation per iteration count, the worst misalignment and energy
                    ratios) and Gazebo's inertia-ratio test (out-of-plane angle against its 0.21 rad bound);
   sweep.png        the same ratios as a heat map (log scale: blue where the quaternion rows do better, red worse).
+With --matched (the CSV of `quathinge-sweep --matched`) the report adds the same separation and misalignment ratios
+with both kinds stepped from the same states, on stock's own trajectory and on the quaternion hinge's: the rows
+compared without the trajectories they lead to (docs/ROW_BASIS.md, "Matched states").
 A ratio's two figures are first raised to a floor (FLOORS: 1e-5 m, 0.01 deg, 1e-3 of the energy scale), so two
 runs that both hold a joint to round-off read 1.00, not a ratio of round-offs.
 Uses Debian's python3-matplotlib.
@@ -58,6 +61,65 @@ def fmt(r):
     return f"**{text}**" if r > BOUND else text
 
 
+def matched_table(rows, basis, order, scenes, within_free):
+    """The matched-state ratios: per scene and trajectory (stock's, the quaternion hinge's), the worst over the
+    iteration counts of the quaternion rows' figure over stock's, both stepped from the same states."""
+    worst = {}  # (scene, leader, group) -> (ratio, iterations)
+    groups = {"sep": [("max_separation_m", 1e-5), ("rms_separation_m", 1e-5)],
+              "mis": [("max_misalignment_deg", 0.01), ("rms_misalignment_deg", 0.01)]}
+    blown = set()
+    for r in rows:
+        if r["basis"] != basis or r["order"] != order or r["skipped"]:
+            continue
+        if r["blew_up"] != "0":
+            blown.add((r["scene"], r["leader"]))
+            continue
+        for group, cols in groups.items():
+            for col, floor in cols:
+                value = ratio(float(r["quaternion_" + col]), float(r["stock_" + col]), floor)
+                key = (r["scene"], r["leader"], group)
+                if key not in worst or value > worst[key][0]:
+                    worst[key] = (value, int(r["iterations"]))
+    if not worst:
+        sys.exit(f"sweep_report: the matched CSV has no runs of basis {basis!r} with order {order!r}")
+
+    def cell(s, leader, group):
+        if (s, leader) in blown:
+            return "blew up"
+        w = worst.get((s, leader, group))
+        return "–" if w is None else f"{fmt(w[0])} ({w[1]})"
+
+    lines = [
+        "Matched states: before every step, the following kind's bodies are set to the leading kind's state, both "
+        "step once, and both joints' errors are measured; so the two sets of rows are compared from the same states, "
+        "without the trajectories they lead to. Worst ratio (quaternion over stock, max or RMS, floored as above) over "
+        "the iteration counts, at the count in brackets. Each step inherits the leading run's error, so a difference "
+        "that builds up over many steps shows here only in part (docs/ROW_BASIS.md, \"Matched states\"):",
+        "",
+        "| scene | separation, on stock's states | separation, on the quaternion hinge's | "
+        "misalignment, on stock's | misalignment, on the quaternion hinge's |",
+        "|---|---|---|---|---|",
+    ]
+    within = []
+    for s in scenes:
+        if not any((s, leader, "sep") in worst for leader in ("stock", "quaternion")):
+            continue
+        lines.append(f"| {s} | {cell(s, 'stock', 'sep')} | {cell(s, 'quaternion', 'sep')} | "
+                     f"{cell(s, 'stock', 'mis')} | {cell(s, 'quaternion', 'mis')} |")
+        seps = [worst[(s, leader, "sep")][0] for leader in ("stock", "quaternion") if (s, leader, "sep") in worst]
+        if seps and max(seps) <= BOUND and not any((s, leader) in blown for leader in ("stock", "quaternion")):
+            within.append(s)
+    measured = sum(1 for s in scenes if (s, "stock", "sep") in worst or (s, "quaternion", "sep") in worst)
+    newly = [s for s in within if s not in within_free]
+    lines += [
+        "",
+        f"From the same states the quaternion rows separate within {BOUND} × of stock's on {len(within)} of "
+        f"{measured} scenes, on both trajectories"
+        + (f" (among them {', '.join(newly)}, above it in the free runs)" if newly else "") + ".",
+    ]
+    return lines
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("csv")
@@ -65,6 +127,7 @@ def main():
     ap.add_argument("--order", default="point-first")
     ap.add_argument("--out", default=".")
     ap.add_argument("--note", default="", help="a line that says where and when the sweep ran")
+    ap.add_argument("--matched", help="the CSV of quathinge-sweep --matched (same basis and order)")
     args = ap.parse_args()
 
     rows = load(args.csv)
@@ -149,6 +212,8 @@ def main():
             "| stock | " + " | ".join(f"{st:.3f}" for _, st, _ in oop) + " |",
             "| quaternion | " + " | ".join(f"{q:.3f}" for _, _, q in oop) + " |",
         ]
+    if args.matched:
+        lines += [""] + matched_table(load(args.matched), args.basis, args.order, scenes, within)
     os.makedirs(args.out, exist_ok=True)
     with open(os.path.join(args.out, "sweep_report.md"), "w") as f:
         f.write("\n".join(lines) + "\n")

@@ -1,11 +1,14 @@
 // quathinge-sweep: the row-basis sweep of issue 16 (docs/ROW_BASIS.md). Runs scenes × row basis × row order ×
 // solver iterations with the bare quaternion hinge (and stock btHingeConstraint at the same iterations) and writes
 // one CSV line per run; with --analysis it writes instead, per scene × basis × order, the conditioning of the rows'
-// K = J M⁻¹ Jᵀ at the start pose and the spectral radius of the Gauss–Seidel sweep on it.
+// K = J M⁻¹ Jᵀ at the start pose and the spectral radius of the Gauss–Seidel sweep on it; with --matched, per scene ×
+// basis × order × iterations, stock and the quaternion hinge stepped from the same states (MatchedStates.h): once on
+// stock's own trajectory, once on the quaternion hinge's.
 //
 // The basis is set through the in-tree hook quathinge::SolverRowBasisAccess (plugin/src/SolverRowBasis.h), not a
 // public setter: it is the library's choice of how to present one constraint to the solver.
 #include "JointKinds.h"
+#include "MatchedStates.h"
 #include "SceneSpec.h"
 #include "Simulation.h"
 #include "SolverRowBasis.h"
@@ -344,7 +347,7 @@ int main(int argc, char** argv)
 	double dt = -1, duration = -1;
 	int jobs = 1;
 	std::string out = "sweep.csv", models;
-	bool analysis = false;
+	bool analysis = false, matched = false;
 	app.add_option("-s,--scenes", sceneList, "scene names (quathinge-compare --list), inertia_ratio_<N> for the family")
 		->capture_default_str();
 	app.add_option("-b,--bases", basisList, "stock radial world heavy decoupled jointframe radial-turned turned-at-static radial-turned45 radial-turned90")->capture_default_str();
@@ -356,6 +359,9 @@ int main(int argc, char** argv)
 	app.add_option("-o,--out", out, "CSV file")->capture_default_str();
 	app.add_option("--models", models, "models directory (default as quathinge-compare's)");
 	app.add_flag("--analysis", analysis, "write the K analysis (conditioning, Gauss–Seidel spectral radius) instead");
+	app.add_flag("--matched", matched,
+				 "write matched-state runs instead: stock and each basis stepped from the same states, on each one's "
+				 "trajectory (the rows compared without the trajectories they lead to)");
 	CLI11_PARSE(app, argc, argv);
 	if (models.empty()) models = defaultModelsDir();
 
@@ -427,6 +433,63 @@ int main(int argc, char** argv)
 					}
 			}
 		}
+		return 0;
+	}
+
+	if (matched)
+	{
+		// one line per scene × basis × order × iterations × leader: both kinds' errors, the follower's from the
+		// leader's state before every step
+		csv << "scene,basis,order,dt,iterations,leader,skipped,blew_up,steps,stock_max_separation_m,"
+			   "stock_rms_separation_m,stock_max_misalignment_deg,stock_rms_misalignment_deg,"
+			   "quaternion_max_separation_m,quaternion_rms_separation_m,quaternion_max_misalignment_deg,"
+			   "quaternion_rms_misalignment_deg\n";
+		std::vector<Job> matchedJobs;
+		for (const std::string& name : sceneList)
+			for (int iterations : iterationList)
+				for (const Variant& v : variants)
+					for (bool angularFirst : orders)
+						if (!v.stock) matchedJobs.push_back({name, v, angularFirst, iterations});
+		std::mutex lock;
+		std::atomic<size_t> next{0};
+		auto worker = [&]() {
+			for (size_t i; (i = next++) < matchedJobs.size();)
+			{
+				const Job& job = matchedJobs[i];
+				const SceneSpec scene = makeScene(job.sceneName, 1, models);
+				const double step = dt > 0 ? dt : sceneStep(scene);
+				auto prepare = [&job](btDiscreteDynamicsWorld& world) {
+					setBasis(world, job.variant.basis, job.angularFirst);  // touches only quaternion hinges
+				};
+				for (bool stockLeads : {true, false})
+				{
+					const MatchedRun run = stockLeads ? runMatched(scene, Kind::Stock, Kind::Quaternion, step,
+																   job.iterations, duration, prepare)
+													  : runMatched(scene, Kind::Quaternion, Kind::Stock, step,
+																   job.iterations, duration, prepare);
+					const MatchedErrors& stock = stockLeads ? run.leader : run.follower;
+					const MatchedErrors& quaternion = stockLeads ? run.follower : run.leader;
+					std::lock_guard<std::mutex> guard(lock);
+					csv << job.sceneName << ',' << job.variant.name << ','
+						<< (job.angularFirst ? "angular-first" : "point-first") << ',' << step << ','
+						<< job.iterations << ',' << (stockLeads ? "stock" : "quaternion") << ",\"" << run.skipped
+						<< "\"," << run.blewUp << ',' << run.steps << ',' << stock.maxSeparation << ','
+						<< stock.rmsSeparation << ',' << stock.maxMisalignmentDeg << ',' << stock.rmsMisalignmentDeg
+						<< ',' << quaternion.maxSeparation << ',' << quaternion.rmsSeparation << ','
+						<< quaternion.maxMisalignmentDeg << ',' << quaternion.rmsMisalignmentDeg << '\n';
+					csv.flush();
+					std::cout << fmt::format("{:<22} {:<11} {:>4} it  on {:<10}'s states: max sep stock {:.3e} "
+											 "quaternion {:.3e} m\n",
+											 job.sceneName, job.variant.name, job.iterations,
+											 stockLeads ? "stock" : "quaternion", stock.maxSeparation,
+											 quaternion.maxSeparation)
+							  << std::flush;
+				}
+			}
+		};
+		std::vector<std::thread> threads;
+		for (int t = 0; t < jobs; ++t) threads.emplace_back(worker);
+		for (std::thread& t : threads) t.join();
 		return 0;
 	}
 
