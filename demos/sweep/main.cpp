@@ -23,6 +23,7 @@
 #include <atomic>
 #include <cmath>
 #include <fstream>
+#include <functional>
 #include <iostream>
 #include <mutex>
 #include <memory>
@@ -334,6 +335,18 @@ struct Job
 	bool angularFirst;
 	int iterations;
 };
+
+// Runs every job on `threads` threads, each taking the next job not yet taken.
+void runJobs(const std::vector<Job>& jobs, int threads, const std::function<void(const Job&)>& run)
+{
+	std::atomic<size_t> next{0};
+	auto worker = [&]() {
+		for (size_t i; (i = next++) < jobs.size();) run(jobs[i]);
+	};
+	std::vector<std::thread> pool;
+	for (int t = 0; t < threads; ++t) pool.emplace_back(worker);
+	for (std::thread& t : pool) t.join();
+}
 }  // namespace
 
 int main(int argc, char** argv)
@@ -451,45 +464,37 @@ int main(int argc, char** argv)
 					for (bool angularFirst : orders)
 						if (!v.stock) matchedJobs.push_back({name, v, angularFirst, iterations});
 		std::mutex lock;
-		std::atomic<size_t> next{0};
-		auto worker = [&]() {
-			for (size_t i; (i = next++) < matchedJobs.size();)
+		runJobs(matchedJobs, jobs, [&](const Job& job) {
+			const SceneSpec scene = makeScene(job.sceneName, 1, models);
+			const double step = dt > 0 ? dt : sceneStep(scene);
+			auto prepare = [&job](btDiscreteDynamicsWorld& world) {
+				setBasis(world, job.variant.basis, job.angularFirst);  // touches only quaternion hinges
+			};
+			for (bool stockLeads : {true, false})
 			{
-				const Job& job = matchedJobs[i];
-				const SceneSpec scene = makeScene(job.sceneName, 1, models);
-				const double step = dt > 0 ? dt : sceneStep(scene);
-				auto prepare = [&job](btDiscreteDynamicsWorld& world) {
-					setBasis(world, job.variant.basis, job.angularFirst);  // touches only quaternion hinges
-				};
-				for (bool stockLeads : {true, false})
-				{
-					const MatchedRun run = stockLeads ? runMatched(scene, Kind::Stock, Kind::Quaternion, step,
-																   job.iterations, duration, prepare)
-													  : runMatched(scene, Kind::Quaternion, Kind::Stock, step,
-																   job.iterations, duration, prepare);
-					const MatchedErrors& stock = stockLeads ? run.leader : run.follower;
-					const MatchedErrors& quaternion = stockLeads ? run.follower : run.leader;
-					std::lock_guard<std::mutex> guard(lock);
-					csv << job.sceneName << ',' << job.variant.name << ','
-						<< (job.angularFirst ? "angular-first" : "point-first") << ',' << step << ','
-						<< job.iterations << ',' << (stockLeads ? "stock" : "quaternion") << ",\"" << run.skipped
-						<< "\"," << run.blewUp << ',' << run.steps << ',' << stock.maxSeparation << ','
-						<< stock.rmsSeparation << ',' << stock.maxMisalignmentDeg << ',' << stock.rmsMisalignmentDeg
-						<< ',' << quaternion.maxSeparation << ',' << quaternion.rmsSeparation << ','
-						<< quaternion.maxMisalignmentDeg << ',' << quaternion.rmsMisalignmentDeg << '\n';
-					csv.flush();
-					std::cout << fmt::format("{:<22} {:<11} {:>4} it  on {:<10}'s states: max sep stock {:.3e} "
-											 "quaternion {:.3e} m\n",
-											 job.sceneName, job.variant.name, job.iterations,
-											 stockLeads ? "stock" : "quaternion", stock.maxSeparation,
-											 quaternion.maxSeparation)
-							  << std::flush;
-				}
+				const MatchedRun run = stockLeads ? runMatched(scene, Kind::Stock, Kind::Quaternion, step,
+															   job.iterations, duration, prepare)
+												  : runMatched(scene, Kind::Quaternion, Kind::Stock, step,
+															   job.iterations, duration, prepare);
+				const MatchedErrors& stock = stockLeads ? run.leader : run.follower;
+				const MatchedErrors& quaternion = stockLeads ? run.follower : run.leader;
+				std::lock_guard<std::mutex> guard(lock);
+				csv << job.sceneName << ',' << job.variant.name << ','
+					<< (job.angularFirst ? "angular-first" : "point-first") << ',' << step << ','
+					<< job.iterations << ',' << (stockLeads ? "stock" : "quaternion") << ",\"" << run.skipped
+					<< "\"," << run.blewUp << ',' << run.steps << ',' << stock.maxSeparation << ','
+					<< stock.rmsSeparation << ',' << stock.maxMisalignmentDeg << ',' << stock.rmsMisalignmentDeg
+					<< ',' << quaternion.maxSeparation << ',' << quaternion.rmsSeparation << ','
+					<< quaternion.maxMisalignmentDeg << ',' << quaternion.rmsMisalignmentDeg << '\n';
+				csv.flush();
+				std::cout << fmt::format("{:<22} {:<11} {:>4} it  on {}'s states: max sep stock {:.3e} "
+										 "quaternion {:.3e} m\n",
+										 job.sceneName, job.variant.name, job.iterations,
+										 stockLeads ? "stock" : "quaternion", stock.maxSeparation,
+										 quaternion.maxSeparation)
+						  << std::flush;
 			}
-		};
-		std::vector<std::thread> threads;
-		for (int t = 0; t < jobs; ++t) threads.emplace_back(worker);
-		for (std::thread& t : threads) t.join();
+		});
 		return 0;
 	}
 
@@ -506,67 +511,59 @@ int main(int argc, char** argv)
 		   "rms_misalignment_deg,energy_drift,max_out_of_plane_rad,blew_up,cpu_per_sim_s,max_joint_rms_swing_rate,"
 		   "swing_mean_over_rms\n";
 	std::mutex lock;
-	std::atomic<size_t> next{0};
-	auto worker = [&]() {
-		for (size_t i; (i = next++) < queue.size();)
-		{
-			const Job& job = queue[i];
-			const SceneSpec scene = makeScene(job.sceneName, 1, models);
-			RunSettings settings;
-			settings.dt = dt > 0 ? dt : sceneStep(scene);
-			settings.iterations = job.iterations;
-			settings.duration = duration;
-			settings.reference = false;
-			if (!job.variant.stock)
-				settings.prepare = [&job](btDiscreteDynamicsWorld& world) {
-					setBasis(world, job.variant.basis, job.angularFirst);
-				};
-			// per joint: the swing rate (the relative angular velocity across the hinge axis) in joint frame A's x̂, ŷ
-			// after each step — its mean and RMS show whether a misalignment grows as a steady drift (|mean| ≈ RMS)
-			// or as an oscillation (|mean| ≪ RMS)
-			std::vector<double> sumX, sumY, sum2;
-			long samples = 0;
-			settings.afterStep = [&](const std::vector<MeasuredJoint>& joints) {
-				sumX.resize(joints.size(), 0);
-				sumY.resize(joints.size(), 0);
-				sum2.resize(joints.size(), 0);
-				for (size_t k = 0; k < joints.size(); ++k)
-				{
-					const MeasuredJoint& j = joints[k];
-					const btMatrix3x3 frame = j.a->getCenterOfMassTransform().getBasis() * j.frameA.getBasis();
-					const btVector3 local = frame.transpose() * (j.b->getAngularVelocity() - j.a->getAngularVelocity());
-					sumX[k] += double(local.x());
-					sumY[k] += double(local.y());
-					sum2[k] += double(local.x() * local.x() + local.y() * local.y());
-				}
-				++samples;
+	runJobs(queue, jobs, [&](const Job& job) {
+		const SceneSpec scene = makeScene(job.sceneName, 1, models);
+		RunSettings settings;
+		settings.dt = dt > 0 ? dt : sceneStep(scene);
+		settings.iterations = job.iterations;
+		settings.duration = duration;
+		settings.reference = false;
+		if (!job.variant.stock)
+			settings.prepare = [&job](btDiscreteDynamicsWorld& world) {
+				setBasis(world, job.variant.basis, job.angularFirst);
 			};
-			const Metrics m = runScene(scene, job.variant.stock ? Kind::Stock : Kind::Quaternion, settings);
-			double swingRms = 0, swingBias = 0;  // the joint with the largest RMS swing rate, and its |mean| / RMS
-			for (size_t k = 0; k < sum2.size() && samples > 0; ++k)
+		// per joint: the swing rate (the relative angular velocity across the hinge axis) in joint frame A's x̂, ŷ
+		// after each step — its mean and RMS show whether a misalignment grows as a steady drift (|mean| ≈ RMS)
+		// or as an oscillation (|mean| ≪ RMS)
+		std::vector<double> sumX, sumY, sum2;
+		long samples = 0;
+		settings.afterStep = [&](const std::vector<MeasuredJoint>& joints) {
+			sumX.resize(joints.size(), 0);
+			sumY.resize(joints.size(), 0);
+			sum2.resize(joints.size(), 0);
+			for (size_t k = 0; k < joints.size(); ++k)
 			{
-				const double rms = std::sqrt(sum2[k] / double(samples));
-				if (rms <= swingRms) continue;
-				swingRms = rms;
-				const double mx = sumX[k] / double(samples), my = sumY[k] / double(samples);
-				swingBias = std::sqrt(mx * mx + my * my) / rms;
+				const MeasuredJoint& j = joints[k];
+				const btMatrix3x3 frame = j.a->getCenterOfMassTransform().getBasis() * j.frameA.getBasis();
+				const btVector3 local = frame.transpose() * (j.b->getAngularVelocity() - j.a->getAngularVelocity());
+				sumX[k] += double(local.x());
+				sumY[k] += double(local.y());
+				sum2[k] += double(local.x() * local.x() + local.y() * local.y());
 			}
-			std::lock_guard<std::mutex> guard(lock);
-			csv << m.scene << ',' << job.variant.name << ',' << (job.angularFirst ? "angular-first" : "point-first")
-				<< ',' << m.dt << ',' << m.iterations << ",\"" << m.skipped << "\"," << m.maxSeparation << ','
-				<< m.rmsSeparation << ',' << m.maxMisalignmentDeg << ',' << m.rmsMisalignmentDeg << ',' << m.energyDrift
-				<< ',' << m.maxOutOfPlaneRad << ',' << m.blewUp << ',' << m.cpuPerSimSecond << ',' << swingRms << ','
-				<< swingBias << '\n';
-			csv.flush();
-			std::cout << fmt::format("{:<22} {:<11} {:<13} {:>4} it  max sep {:.3e} m  max mis {:.3e} deg  oop {:.4f} rad{}\n",
-									 m.scene, job.variant.name, job.angularFirst ? "angular-first" : "point-first",
-									 m.iterations, m.maxSeparation, m.maxMisalignmentDeg, m.maxOutOfPlaneRad,
-									 m.blewUp ? "  BLEW UP" : "")
-					  << std::flush;
+			++samples;
+		};
+		const Metrics m = runScene(scene, job.variant.stock ? Kind::Stock : Kind::Quaternion, settings);
+		double swingRms = 0, swingBias = 0;  // the joint with the largest RMS swing rate, and its |mean| / RMS
+		for (size_t k = 0; k < sum2.size() && samples > 0; ++k)
+		{
+			const double rms = std::sqrt(sum2[k] / double(samples));
+			if (rms <= swingRms) continue;
+			swingRms = rms;
+			const double mx = sumX[k] / double(samples), my = sumY[k] / double(samples);
+			swingBias = std::sqrt(mx * mx + my * my) / rms;
 		}
-	};
-	std::vector<std::thread> threads;
-	for (int t = 0; t < jobs; ++t) threads.emplace_back(worker);
-	for (std::thread& t : threads) t.join();
+		std::lock_guard<std::mutex> guard(lock);
+		csv << m.scene << ',' << job.variant.name << ',' << (job.angularFirst ? "angular-first" : "point-first")
+			<< ',' << m.dt << ',' << m.iterations << ",\"" << m.skipped << "\"," << m.maxSeparation << ','
+			<< m.rmsSeparation << ',' << m.maxMisalignmentDeg << ',' << m.rmsMisalignmentDeg << ',' << m.energyDrift
+			<< ',' << m.maxOutOfPlaneRad << ',' << m.blewUp << ',' << m.cpuPerSimSecond << ',' << swingRms << ','
+			<< swingBias << '\n';
+		csv.flush();
+		std::cout << fmt::format("{:<22} {:<11} {:<13} {:>4} it  max sep {:.3e} m  max mis {:.3e} deg  oop {:.4f} rad{}\n",
+								 m.scene, job.variant.name, job.angularFirst ? "angular-first" : "point-first",
+								 m.iterations, m.maxSeparation, m.maxMisalignmentDeg, m.maxOutOfPlaneRad,
+								 m.blewUp ? "  BLEW UP" : "")
+				  << std::flush;
+	});
 	return 0;
 }
