@@ -9,7 +9,7 @@ and writes, for one basis and order against `stock`:
 With --matched (the CSV of `quathinge-sweep --matched`) the report adds the same separation and misalignment ratios
 with both kinds stepped from the same states, on stock's own trajectory and on the quaternion hinge's: the rows
 compared without the trajectories they lead to (docs/ROW_BASIS.md, "Matched states").
-A ratio's two figures are first raised to a floor (FLOORS: 1e-5 m, 0.01 deg, 1e-3 of the energy scale), so two
+A ratio's two figures are first raised to a floor (MEASURES: 1e-5 m, 0.01 deg, 1e-3 of the energy scale), so two
 runs that both hold a joint to round-off read 1.00, not a ratio of round-offs.
 Uses Debian's python3-matplotlib.
 """
@@ -65,8 +65,8 @@ def matched_table(rows, basis, order, scenes, within_free):
     """The matched-state ratios: per scene and trajectory (stock's, the quaternion hinge's), the worst over the
     iteration counts of the quaternion rows' figure over stock's, both stepped from the same states."""
     worst = {}  # (scene, leader, group) -> (ratio, iterations)
-    groups = {"sep": [("max_separation_m", 1e-5), ("rms_separation_m", 1e-5)],
-              "mis": [("max_misalignment_deg", 0.01), ("rms_misalignment_deg", 0.01)]}
+    floor = {col: f for col, _, f in MEASURES}
+    groups = {"sep": ["max_separation_m", "rms_separation_m"], "mis": ["max_misalignment_deg", "rms_misalignment_deg"]}
     blown = set()
     for r in rows:
         if r["basis"] != basis or r["order"] != order or r["skipped"]:
@@ -75,8 +75,8 @@ def matched_table(rows, basis, order, scenes, within_free):
             blown.add((r["scene"], r["leader"]))
             continue
         for group, cols in groups.items():
-            for col, floor in cols:
-                value = ratio(float(r["quaternion_" + col]), float(r["stock_" + col]), floor)
+            for col in cols:
+                value = ratio(float(r["quaternion_" + col]), float(r["stock_" + col]), floor[col])
                 key = (r["scene"], r["leader"], group)
                 if key not in worst or value > worst[key][0]:
                     worst[key] = (value, int(r["iterations"]))

@@ -28,8 +28,8 @@ const double kBound = 1.2;
 
 double separationRatio(const MatchedRun& run, bool stockLeads)
 {
-	const MatchedErrors& stock = stockLeads ? run.leader : run.follower;
-	const MatchedErrors& quaternion = stockLeads ? run.follower : run.leader;
+	const JointErrorStats& stock = stockLeads ? run.leader : run.follower;
+	const JointErrorStats& quaternion = stockLeads ? run.follower : run.leader;
 	return quaternion.maxSeparation / stock.maxSeparation;
 }
 

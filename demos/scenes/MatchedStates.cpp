@@ -1,9 +1,6 @@
 // Matched states (MatchedStates.h).
 #include "MatchedStates.h"
 
-#include "Simulation.h"
-
-#include <algorithm>
 #include <cmath>
 #include <memory>
 #include <stdexcept>
@@ -26,34 +23,10 @@ void copyBodyState(const btRigidBody& from, btRigidBody& to)
 	to.setInterpolationAngularVelocity(from.getInterpolationAngularVelocity());
 }
 
-struct ErrorSums
+void addJointErrors(const std::vector<MeasuredJoint>& joints, JointErrorStats& errors)
 {
-	MatchedErrors errors;
-	double sumSep2 = 0, sumMis2 = 0;
-	long samples = 0;
-	void add(const std::vector<MeasuredJoint>& joints)
-	{
-		for (const MeasuredJoint& j : joints)
-		{
-			const JointError e = measureJointError(j);
-			errors.maxSeparation = std::max(errors.maxSeparation, e.separation);
-			errors.maxMisalignmentDeg = std::max(errors.maxMisalignmentDeg, e.misalignmentDeg);
-			sumSep2 += e.separation * e.separation;
-			sumMis2 += e.misalignmentDeg * e.misalignmentDeg;
-			++samples;
-		}
-	}
-	MatchedErrors finish() const
-	{
-		MatchedErrors out = errors;
-		if (samples > 0)
-		{
-			out.rmsSeparation = std::sqrt(sumSep2 / double(samples));
-			out.rmsMisalignmentDeg = std::sqrt(sumMis2 / double(samples));
-		}
-		return out;
-	}
-};
+	for (const MeasuredJoint& j : joints) errors.add(measureJointError(j));
+}
 }  // namespace
 
 MatchedRun runMatched(const SceneSpec& scene, Kind leader, Kind follower, double dt, int iterations, double duration,
@@ -86,7 +59,6 @@ MatchedRun runMatched(const SceneSpec& scene, Kind leader, Kind follower, double
 		prepare(lead->world());
 		prepare(follow->world());
 	}
-	ErrorSums leaderSums, followerSums;
 	run.steps = int(std::lround((duration > 0 ? duration : scene.duration) / dt));
 	for (int i = 0; i < run.steps; ++i)
 	{
@@ -99,11 +71,9 @@ MatchedRun runMatched(const SceneSpec& scene, Kind leader, Kind follower, double
 			run.blewUp = true;
 			break;
 		}
-		leaderSums.add(lead->joints);
-		followerSums.add(follow->joints);
+		addJointErrors(lead->joints, run.leader);
+		addJointErrors(follow->joints, run.follower);
 	}
-	run.leader = leaderSums.finish();
-	run.follower = followerSums.finish();
 	return run;
 }
 }  // namespace scenes

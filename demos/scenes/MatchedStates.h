@@ -7,29 +7,19 @@
 
 #include "JointKinds.h"
 #include "SceneSpec.h"
+#include "Simulation.h"
 
 #include <functional>
-
-class btDiscreteDynamicsWorld;
 
 namespace quathinge
 {
 namespace scenes
 {
-/// Joint errors of one kind over a matched run (the same measures as runScene's: the largest over joints and steps,
-/// and the RMS over both).
-struct MatchedErrors
-{
-	double maxSeparation = 0;       ///< m
-	double rmsSeparation = 0;       ///< m
-	double maxMisalignmentDeg = 0;  ///< deg
-	double rmsMisalignmentDeg = 0;  ///< deg
-};
-
+/// Joint errors of both kinds over a matched run (runScene's measures: JointErrorStats, Simulation.h).
 struct MatchedRun
 {
-	MatchedErrors leader;    ///< the leading kind's free run
-	MatchedErrors follower;  ///< the following kind, each step taken from the leader's state before that step
+	JointErrorStats leader;    ///< the leading kind's free run
+	JointErrorStats follower;  ///< the following kind, each step taken from the leader's state before that step
 	int steps = 0;           ///< steps run (fewer than asked after a blow-up)
 	bool blewUp = false;     ///< a body of either world became non-finite or far-flung (Simulation::finiteAndBounded)
 	std::string skipped;     ///< why the scene could not run (then nothing else is set)

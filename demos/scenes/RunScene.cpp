@@ -162,8 +162,9 @@ Metrics runScene(const SceneSpec& scene, Kind kind, const RunSettings& settings)
 		scale += std::fabs(e0 - pe);  // the initial kinetic energy
 		if (scale == 0) scale = 1;
 	}
-	double sumSep2 = 0, sumMis2 = 0, maxEnergy = 0, sumTraj2 = 0, maxTraj = 0;
-	long samples = 0, rows = 0;
+	JointErrorStats errors;
+	double maxEnergy = 0, sumTraj2 = 0, maxTraj = 0;
+	long rows = 0;
 	PeriodMeter period;
 	double wall = 0, cpu = 0;
 	for (int i = 1; i <= steps; ++i)
@@ -196,7 +197,7 @@ Metrics runScene(const SceneSpec& scene, Kind kind, const RunSettings& settings)
 				m.maxOutOfPlaneRad = std::max({m.maxOutOfPlaneRad, std::fabs(pitch), std::fabs(yaw)});
 			}
 		if (settings.afterStep) settings.afterStep(sim->joints);
-		double stepSep = 0, stepMis = 0;
+		double stepSep = 0, stepMis = 0;  // this step's largest (the series, the recovery time)
 		for (MeasuredJoint& j : sim->joints)
 		{
 			if (j.hasLimit)
@@ -206,19 +207,14 @@ Metrics runScene(const SceneSpec& scene, Kind kind, const RunSettings& settings)
 				m.limitViolation = std::max(m.limitViolation, past);
 			}
 			const JointError error = measureJointError(j);
-			const double sep = error.separation, mis = error.misalignmentDeg;
-			sumSep2 += sep * sep;
-			sumMis2 += mis * mis;
-			++samples;
-			stepSep = std::max(stepSep, sep);
-			stepMis = std::max(stepMis, mis);
+			errors.add(error);
+			stepSep = std::max(stepSep, error.separation);
+			stepMis = std::max(stepMis, error.misalignmentDeg);
 		}
-		m.maxSeparation = std::max(m.maxSeparation, stepSep);
 		for (const MeasuredJoint& j : sim->sliders)
 			m.maxSliderSeparation = std::max(m.maxSliderSeparation, measureSliderSeparation(j));
 		if (stepMis < 1.0 && m.recoveryTime < 0) m.recoveryTime = t;
 		if (stepMis >= 1.0) m.recoveryTime = -1;
-		m.maxMisalignmentDeg = std::max(m.maxMisalignmentDeg, stepMis);
 		if (scene.conservative) maxEnergy = std::max(maxEnergy, std::fabs(e - e0) / scale);
 		if (scene.reference == Reference::PendulumPeriod) period.add(t, double(sim->bodies[0]->getCenterOfMassPosition().x()));
 		if (reference || useExternal)
@@ -260,11 +256,10 @@ Metrics runScene(const SceneSpec& scene, Kind kind, const RunSettings& settings)
 		trackTheta(sim->joints[0]);
 		m.finalTheta = sim->joints[0].theta;
 	}
-	if (samples)
-	{
-		m.rmsSeparation = std::sqrt(sumSep2 / double(samples));
-		m.rmsMisalignmentDeg = std::sqrt(sumMis2 / double(samples));
-	}
+	m.maxSeparation = errors.maxSeparation;
+	m.maxMisalignmentDeg = errors.maxMisalignmentDeg;
+	m.rmsSeparation = errors.rmsSeparation();
+	m.rmsMisalignmentDeg = errors.rmsMisalignmentDeg();
 	if (scene.conservative) m.energyDrift = maxEnergy;
 	if (scene.reference == Reference::PendulumPeriod)
 	{

@@ -9,6 +9,8 @@
 
 #include <btBulletDynamicsCommon.h>
 
+#include <algorithm>
+#include <cmath>
 #include <functional>
 #include <memory>
 #include <vector>
@@ -43,6 +45,25 @@ struct JointError
 	double misalignmentDeg;
 };
 JointError measureJointError(const MeasuredJoint& j);
+/// Joint errors gathered over a run: the largest over joints and steps, and the RMS over both (runScene's measures,
+/// and MatchedStates.h's).
+struct JointErrorStats
+{
+	double maxSeparation = 0;       ///< m
+	double maxMisalignmentDeg = 0;  ///< deg
+	double sumSeparation2 = 0, sumMisalignment2 = 0;
+	long samples = 0;
+	void add(const JointError& e)
+	{
+		maxSeparation = std::max(maxSeparation, e.separation);
+		maxMisalignmentDeg = std::max(maxMisalignmentDeg, e.misalignmentDeg);
+		sumSeparation2 += e.separation * e.separation;
+		sumMisalignment2 += e.misalignmentDeg * e.misalignmentDeg;
+		++samples;
+	}
+	double rmsSeparation() const { return samples ? std::sqrt(sumSeparation2 / double(samples)) : 0; }
+	double rmsMisalignmentDeg() const { return samples ? std::sqrt(sumMisalignment2 / double(samples)) : 0; }
+};
 /// A slider's (SceneSpec::sliders) error now: the distance (m) of the child's joint origin from the parent's slide
 /// line (the frames' x axis), the direction a prismatic joint leaves free excluded.
 double measureSliderSeparation(const MeasuredJoint& j);

@@ -476,16 +476,17 @@ int main(int argc, char** argv)
 															   job.iterations, duration, prepare)
 												  : runMatched(scene, Kind::Quaternion, Kind::Stock, step,
 															   job.iterations, duration, prepare);
-				const MatchedErrors& stock = stockLeads ? run.leader : run.follower;
-				const MatchedErrors& quaternion = stockLeads ? run.follower : run.leader;
+				const JointErrorStats& stock = stockLeads ? run.leader : run.follower;
+				const JointErrorStats& quaternion = stockLeads ? run.follower : run.leader;
 				std::lock_guard<std::mutex> guard(lock);
 				csv << job.sceneName << ',' << job.variant.name << ','
 					<< (job.angularFirst ? "angular-first" : "point-first") << ',' << step << ','
 					<< job.iterations << ',' << (stockLeads ? "stock" : "quaternion") << ",\"" << run.skipped
 					<< "\"," << run.blewUp << ',' << run.steps << ',' << stock.maxSeparation << ','
-					<< stock.rmsSeparation << ',' << stock.maxMisalignmentDeg << ',' << stock.rmsMisalignmentDeg
-					<< ',' << quaternion.maxSeparation << ',' << quaternion.rmsSeparation << ','
-					<< quaternion.maxMisalignmentDeg << ',' << quaternion.rmsMisalignmentDeg << '\n';
+					<< stock.rmsSeparation() << ',' << stock.maxMisalignmentDeg << ','
+					<< stock.rmsMisalignmentDeg() << ',' << quaternion.maxSeparation << ','
+					<< quaternion.rmsSeparation() << ',' << quaternion.maxMisalignmentDeg << ','
+					<< quaternion.rmsMisalignmentDeg() << '\n';
 				csv.flush();
 				std::cout << fmt::format("{:<22} {:<11} {:>4} it  on {}'s states: max sep stock {:.3e} "
 										 "quaternion {:.3e} m\n",
