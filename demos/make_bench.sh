@@ -34,17 +34,14 @@ if [ "$publish" = 1 ]; then
   cp "$out/scaling.png" docs/images/bench_scaling.png
   /usr/bin/python3 - "$out/bench_report.md" <<'PY'
 import re, sys
+sys.path.insert(0, "demos")
+from readme_section import replace
 report = open(sys.argv[1]).read().strip()
 report = report.replace("](scaling.png)", "](docs/images/bench_scaling.png)")
 # the report's own title becomes a sub-heading of the README section
 report = re.sub(r"^# .*\n", "", report, count=1).strip()
 report = re.sub(r"^## ", "### ", report, flags=re.M)  # sub-sections of the README's cost section
-readme = open("README.md").read()
-begin, end = "<!-- bench:begin -->", "<!-- bench:end -->"
-assert begin in readme and end in readme, "README.md has no bench markers"
-head, rest = readme.split(begin, 1)
-_, tail = rest.split(end, 1)
-open("README.md", "w").write(head + begin + "\n" + report + "\n" + end + tail)
+replace("bench", report)
 PY
   echo "make_bench: README.md and docs/images/bench_scaling.png updated" >&2
 fi

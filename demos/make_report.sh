@@ -40,7 +40,9 @@ above its start by more than 10× the energy scale (a runaway). Full data: \`$ou
 $compare --models "$models" -s pendulum double_pendulum chain10 heavy100 pendulum5 -d 10 \
   -k stock quaternion quaternion+stab quaternion+stab+energy "${reference[@]}" -o "$out/energy" >"$out/energy.txt"
 /usr/bin/python3 - "$out/energy/results.json" <<'PY'
-import json, re, sys
+import json, sys
+sys.path.insert(0, "demos")
+from readme_section import replace
 runs = json.load(open(sys.argv[1]))
 runs = runs.get("runs", runs) if isinstance(runs, dict) else runs
 def g(x):
@@ -49,12 +51,7 @@ lines = ["| scene | kind | energy drift | traj. error | max sep (m) | CPU ms / s
 for r in runs:
     lines.append(f"| {r['scene']} | {r['kind']} | {g(r.get('energy_drift'))} | {g(r.get('trajectory_error'))} | "
                  f"{g(r.get('max_separation_m'))} | {1e3 * r.get('cpu_per_sim_s', 0):.2f} |")
-block = "<!-- energy:begin -->\n10 s at 60 Hz, 10 iterations; energy drift: max |E − E0| over the energy scale; traj. error: " \
-        "relative period error (pendulum) or m against the fine-step reference.\n\n" + "\n".join(lines) + "\n<!-- energy:end -->"
-text = open("README.md").read()
-text, n = re.subn(r"<!-- energy:begin -->.*?<!-- energy:end -->", lambda _: block, text, flags=re.S)
-if n != 1:
-    raise SystemExit("README has no energy block")
-open("README.md", "w").write(text)
+replace("energy", "10 s at 60 Hz, 10 iterations; energy drift: max |E − E0| over the energy scale; traj. error: "
+        "relative period error (pendulum) or m against the fine-step reference.\n\n" + "\n".join(lines))
 print("\n".join(lines))
 PY

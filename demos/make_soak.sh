@@ -21,14 +21,11 @@ for run in "chain30 quaternion" "chain30 quaternion+stab" "spider quaternion" "s
   grep " steps " "$out/$1-$2.txt" >>"$out/soak.txt"
 done
 /usr/bin/python3 - "$out/soak.txt" <<'PY'
-import re, sys
+import sys
+sys.path.insert(0, "demos")
+from readme_section import replace
 lines = open(sys.argv[1]).read().strip()
-block = ("<!-- soak:begin -->\n```\n" + lines + "\n```\n<!-- soak:end -->")
-text = open("README.md").read()
-text, n = re.subn(r"<!-- soak:begin -->.*?<!-- soak:end -->", lambda _: block, text, flags=re.S)
-if n != 1:
-    raise SystemExit("README has no soak block")
-open("README.md", "w").write(text)
+replace("soak", "```\n" + lines + "\n```")
 print(lines)
 PY
 [ "$failed" = 0 ] || { echo "make_soak: a run failed (its line above)" >&2; exit 1; }

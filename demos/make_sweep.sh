@@ -38,13 +38,10 @@ if [ "$publish" = 1 ]; then
   cp "$out/sweep.png" docs/images/row_basis_sweep.png
   /usr/bin/python3 - "$out/sweep_report.md" <<'PY'
 import sys
+sys.path.insert(0, "demos")
+from readme_section import replace
 report = open(sys.argv[1]).read().strip()
-readme = open("README.md").read()
-begin, end = "<!-- sweep:begin -->", "<!-- sweep:end -->"
-assert begin in readme and end in readme, "README.md has no sweep markers"
-head, rest = readme.split(begin, 1)
-_, tail = rest.split(end, 1)
-open("README.md", "w").write(head + begin + "\n" + report + "\n\n![the sweep](docs/images/row_basis_sweep.png)\n" + end + tail)
+replace("sweep", report + "\n\n![the sweep](docs/images/row_basis_sweep.png)")
 PY
   echo "make_sweep: README.md and docs/images/row_basis_sweep.png updated" >&2
 fi

@@ -18,12 +18,13 @@ import argparse
 import json
 import math
 import os
-import re
 
 import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
+
+import readme_section  # noqa: E402  (beside this script)
 
 KIND_STYLE = {
     "stock": ("tab:red", "o"),
@@ -169,14 +170,7 @@ def main():
         f.write(md + "\n")
     wrote.append(a.markdown)
     if a.readme:
-        with open(a.readme) as f:
-            text = f.read()
-        block = f"<!-- results:begin -->\n{a.note}\n\n{md}\n<!-- results:end -->"
-        text, n = re.subn(r"<!-- results:begin -->.*?<!-- results:end -->", lambda _: block, text, flags=re.S)
-        if n != 1:
-            raise SystemExit("README has no <!-- results:begin --> ... <!-- results:end --> block")
-        with open(a.readme, "w") as f:
-            f.write(text)
+        readme_section.replace("results", f"{a.note}\n\n{md}", a.readme)
         wrote.append(a.readme)
     print("wrote " + ", ".join(wrote))
 
