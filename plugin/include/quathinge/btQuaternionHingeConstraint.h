@@ -168,7 +168,6 @@ public:
 	static const btQuaternionHingeConstraint* upcast(const btTypedConstraint* constraint);
 
 	// ---- btTypedConstraint --------------------------------------------------------------------------------------------
-	virtual void buildJacobian() {}
 	virtual void getInfo1(btConstraintInfo1 * info);
 	virtual void getInfo2(btConstraintInfo2 * info);
 	/// For Bullet's non-virtual path: as stock's (which reserves a fixed 6), every row getInfo2NonVirtual may write —
