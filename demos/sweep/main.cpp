@@ -25,6 +25,7 @@
 #include <fstream>
 #include <functional>
 #include <iostream>
+#include <iterator>
 #include <mutex>
 #include <memory>
 #include <thread>
@@ -449,6 +450,17 @@ int main(int argc, char** argv)
 		return 0;
 	}
 
+	// every run of scene × iterations × basis × order (stock has one order)
+	std::vector<Job> queue;
+	for (const std::string& name : sceneList)
+		for (int iterations : iterationList)
+			for (const Variant& v : variants)
+				for (bool angularFirst : orders)
+				{
+					if (v.stock && angularFirst) continue;
+					queue.push_back({name, v, angularFirst, iterations});
+				}
+
 	if (matched)
 	{
 		// one line per scene × basis × order × iterations × leader: both kinds' errors, the follower's from the
@@ -457,12 +469,9 @@ int main(int argc, char** argv)
 			   "stock_rms_separation_m,stock_max_misalignment_deg,stock_rms_misalignment_deg,"
 			   "quaternion_max_separation_m,quaternion_rms_separation_m,quaternion_max_misalignment_deg,"
 			   "quaternion_rms_misalignment_deg\n";
-		std::vector<Job> matchedJobs;
-		for (const std::string& name : sceneList)
-			for (int iterations : iterationList)
-				for (const Variant& v : variants)
-					for (bool angularFirst : orders)
-						if (!v.stock) matchedJobs.push_back({name, v, angularFirst, iterations});
+		std::vector<Job> matchedJobs;  // the quaternion hinge's runs (each is compared with stock's here)
+		std::copy_if(queue.begin(), queue.end(), std::back_inserter(matchedJobs),
+					 [](const Job& job) { return !job.variant.stock; });
 		std::mutex lock;
 		runJobs(matchedJobs, jobs, [&](const Job& job) {
 			const SceneSpec scene = makeScene(job.sceneName, 1, models);
@@ -472,10 +481,9 @@ int main(int argc, char** argv)
 			};
 			for (bool stockLeads : {true, false})
 			{
-				const MatchedRun run = stockLeads ? runMatched(scene, Kind::Stock, Kind::Quaternion, step,
-															   job.iterations, duration, prepare)
-												  : runMatched(scene, Kind::Quaternion, Kind::Stock, step,
-															   job.iterations, duration, prepare);
+				const Kind leader = stockLeads ? Kind::Stock : Kind::Quaternion;
+				const Kind follower = stockLeads ? Kind::Quaternion : Kind::Stock;
+				const MatchedRun run = runMatched(scene, leader, follower, step, job.iterations, duration, prepare);
 				const JointErrorStats& stock = stockLeads ? run.leader : run.follower;
 				const JointErrorStats& quaternion = stockLeads ? run.follower : run.leader;
 				std::lock_guard<std::mutex> guard(lock);
@@ -499,15 +507,6 @@ int main(int argc, char** argv)
 		return 0;
 	}
 
-	std::vector<Job> queue;
-	for (const std::string& name : sceneList)
-		for (int iterations : iterationList)
-			for (const Variant& v : variants)
-				for (bool angularFirst : orders)
-				{
-					if (v.stock && angularFirst) continue;  // stock has one order
-					queue.push_back({name, v, angularFirst, iterations});
-				}
 	csv << "scene,basis,order,dt,iterations,skipped,max_separation_m,rms_separation_m,max_misalignment_deg,"
 		   "rms_misalignment_deg,energy_drift,max_out_of_plane_rad,blew_up,cpu_per_sim_s,max_joint_rms_swing_rate,"
 		   "swing_mean_over_rms\n";
