@@ -72,7 +72,7 @@ Closable closableForm(const btTypedConstraint& c)
 		else if (dof.allLinear) k.form = Form::Point;
 		return k;
 	}
-	if (hasPointRows(c))
+	if (hasPointRows(c, dof))
 	{
 		btVector3 inA, inB;
 		pointPivots(c, inA, inB);

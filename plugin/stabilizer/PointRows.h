@@ -56,7 +56,7 @@ inline DofLocks dofLocks(const btTypedConstraint& c)
 	return k;
 }
 
-/// `locks`: dofLocks(c), read once by a caller that needs it too.
+/// A point constraint the projection takes; `locks`: dofLocks(c), which each caller reads for its own use too.
 inline bool hasPointRows(const btTypedConstraint& c, const DofLocks& locks)
 {
 	if (c.getConstraintType() == POINT2POINT_CONSTRAINT_TYPE) return true;
@@ -64,7 +64,6 @@ inline bool hasPointRows(const btTypedConstraint& c, const DofLocks& locks)
 		return !static_cast<const btConeTwistConstraint&>(c).getAngularOnly();
 	return locks.allLinear && !locks.anglesLockedAtZero;
 }
-inline bool hasPointRows(const btTypedConstraint& c) { return hasPointRows(c, dofLocks(c)); }
 
 /// The pivots in A's and B's centre-of-mass frames, as the constraint holds them now (a constraint hasPointRows takes).
 inline void pointPivots(const btTypedConstraint& c, btVector3& inA, btVector3& inB)
