@@ -4,7 +4,7 @@
 #   bash demos/make_bench.sh [--publish] [out-dir]   (default demos/out/bench, git-ignored; about three minutes on
 #                                                     two cores)
 # Writes bench.json (the raw run), machine.txt (lscpu), bench_report.md and scaling.png into out-dir; --publish also
-# copies the plot to docs/images/bench_scaling.png and the report into README.md between <!-- bench:begin/end -->.
+# copies the plot to docs/images/bench_scaling.png and the report into docs/PERFORMANCE.md between <!-- bench:begin/end -->.
 # Environment: QUATHINGE_BENCH_BUILD — build directory (default build); QUATHINGE_BENCH_FILTER — a benchmark regex
 # (default: all); QUATHINGE_BENCH_REPETITIONS (default 5).
 set -euo pipefail
@@ -37,11 +37,11 @@ import re, sys
 sys.path.insert(0, "demos")
 from readme_section import replace
 report = open(sys.argv[1]).read().strip()
-report = report.replace("](scaling.png)", "](docs/images/bench_scaling.png)")
-# the report's own title becomes a sub-heading of the README section
+report = report.replace("](scaling.png)", "](images/bench_scaling.png)")
+# the report's own title becomes a sub-heading of the manual section
 report = re.sub(r"^# .*\n", "", report, count=1).strip()
-report = re.sub(r"^## ", "### ", report, flags=re.M)  # sub-sections of the README's cost section
-replace("bench", report)
+report = re.sub(r"^## ", "### ", report, flags=re.M)  # sub-sections of the performance page
+replace("bench", report, "docs/PERFORMANCE.md")
 PY
-  echo "make_bench: README.md and docs/images/bench_scaling.png updated" >&2
+  echo "make_bench: docs/PERFORMANCE.md and docs/images/bench_scaling.png updated" >&2
 fi

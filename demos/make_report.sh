@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
-# Regenerates every figure and the README's results table from fresh runs:
+# Regenerates every figure and the results table of docs/RESULTS.md from fresh runs:
 #   bash demos/make_report.sh        (about a minute of runs on two cores, after the float and double builds)
 # Uses Debian's own /usr/bin/python3 (python3-matplotlib). Writes the plots to docs/images/, the table to
-# docs/images/results.md and into README.md (between the results markers), the raw CSV/JSON to demos/out/report/.
+# docs/images/results.md and into docs/RESULTS.md (between the results markers), the raw CSV/JSON to demos/out/report/.
 # QUATHINGE_BUILD_DIR picks the build directory (default build/); QUATHINGE_MODELS_DIR the models (default demos/models).
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -35,8 +35,8 @@ $(date -u +%Y-%m-%d); 60 Hz, 10 iterations, Bullet $(pkg-config --modversion bul
 thread CPU time; blow-up: the first step with a non-finite state, a body beyond 1e3 m or faster than 1e4 m/s, or energy \
 above its start by more than 10× the energy scale (a runaway). Full data: \`$out/\`."
 /usr/bin/python3 demos/plot_report.py --sweep "$out/sweep/results.json" --series "$out/series/results.json" \
-  --table "$out/table/results.json" --images docs/images --markdown docs/images/results.md --readme README.md --note "$note"
-# 4. the energy-consistent stabilizer option on the conservative scenes (README, between the energy markers)
+  --table "$out/table/results.json" --images docs/images --markdown docs/images/results.md --readme docs/RESULTS.md --note "$note"
+# 4. the energy-consistent stabilizer option on the conservative scenes (docs/RESULTS.md, the energy markers)
 $compare --models "$models" -s pendulum double_pendulum chain10 heavy100 pendulum5 -d 10 \
   -k stock quaternion quaternion+stab quaternion+stab+energy "${reference[@]}" -o "$out/energy" >"$out/energy.txt"
 /usr/bin/python3 - "$out/energy/results.json" <<'PY'
@@ -52,6 +52,6 @@ for r in runs:
     lines.append(f"| {r['scene']} | {r['kind']} | {g(r.get('energy_drift'))} | {g(r.get('trajectory_error'))} | "
                  f"{g(r.get('max_separation_m'))} | {1e3 * r.get('cpu_per_sim_s', 0):.2f} |")
 replace("energy", "10 s at 60 Hz, 10 iterations; energy drift: max |E − E0| over the energy scale; traj. error: "
-        "relative period error (pendulum) or m against the fine-step reference.\n\n" + "\n".join(lines))
+        "relative period error (pendulum) or m against the fine-step reference.\n\n" + "\n".join(lines), "docs/RESULTS.md")
 print("\n".join(lines))
 PY

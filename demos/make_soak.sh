@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # The long soak (issue 6): a million steps of the 30-link chain and of the spider, with and without the stabilizer,
 # each in its own process (so resident memory is per run). About five minutes on two cores. Writes the results into
-# README.md between <!-- soak:begin --> and <!-- soak:end -->.
+# docs/TESTING.md between <!-- soak:begin --> and <!-- soak:end -->.
 #   bash demos/make_soak.sh [steps]
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -25,7 +25,7 @@ import sys
 sys.path.insert(0, "demos")
 from readme_section import replace
 lines = open(sys.argv[1]).read().strip()
-replace("soak", "```\n" + lines + "\n```")
+replace("soak", "```\n" + lines + "\n```", "docs/TESTING.md")
 print(lines)
 PY
 [ "$failed" = 0 ] || { echo "make_soak: a run failed (its line above)" >&2; exit 1; }

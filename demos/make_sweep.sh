@@ -5,7 +5,7 @@
 #   bash demos/make_sweep.sh [--publish] [out-dir]   (default demos/out/sweep, git-ignored; under a minute on two cores)
 # Writes sweep.csv (quathinge-sweep's runs), matched.csv (the same from matched states), sweep_report.md and sweep.png
 # into out-dir; --publish also copies the plot
-# to docs/images/row_basis_sweep.png and the report into README.md between <!-- sweep:begin/end -->. The other bases
+# to docs/images/row_basis_sweep.png and the report into docs/RESULTS.md between <!-- sweep:begin/end -->. The other bases
 # and orders (docs/ROW_BASIS.md) are `quathinge-sweep -b ...`. QUATHINGE_SWEEP_BUILD picks the build (default build).
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -28,8 +28,8 @@ scenes=(pendulum chain10 chain30 chain100 heavy10 heavy100 heavy1000 heavy10000 
 # the same scenes and rows stepped from matched states: each kind's trajectory, both kinds' rows (docs/ROW_BASIS.md)
 "$build/demos/quathinge-sweep" --matched -s "${scenes[@]}" -b radial --orders point-first -i 10 20 50 100 250 -j 2 \
   -o "$out/matched.csv" >"$out/matched.txt"
-# the source the runs came from (what --publish writes, README.md and the plot, is not a change to it)
-revision="$(git rev-parse --short HEAD 2>/dev/null || echo unknown)$(git diff --quiet HEAD -- . ':!README.md' ':!docs/images' \
+# the source the runs came from (what --publish writes, docs/RESULTS.md and the plot, is not a change to it)
+revision="$(git rev-parse --short HEAD 2>/dev/null || echo unknown)$(git diff --quiet HEAD -- . ':!docs/RESULTS.md' ':!docs/images' \
   2>/dev/null || echo ' + local changes')"
 note="Measured by \`bash demos/make_sweep.sh\` on $(lscpu | sed -n 's/^Model name: *//p' | head -1), $(date -u +%Y-%m-%d); \
 source $revision; Bullet $(pkg-config --modversion bullet) float."
@@ -41,7 +41,7 @@ import sys
 sys.path.insert(0, "demos")
 from readme_section import replace
 report = open(sys.argv[1]).read().strip()
-replace("sweep", report + "\n\n![the sweep](docs/images/row_basis_sweep.png)")
+replace("sweep", report + "\n\n![the sweep](images/row_basis_sweep.png)", "docs/RESULTS.md")
 PY
-  echo "make_sweep: README.md and docs/images/row_basis_sweep.png updated" >&2
+  echo "make_sweep: docs/RESULTS.md and docs/images/row_basis_sweep.png updated" >&2
 fi

@@ -1,16 +1,16 @@
 #!/usr/bin/python3
-"""Plots and the README results table from quathinge-compare's JSON (Debian's python3-matplotlib only).
+"""Plots and the results table (docs/RESULTS.md) from quathinge-compare's JSON (Debian's python3-matplotlib only).
 
   plot_report.py --sweep SWEEP.json --series SERIES.json --table TABLE.json --images DIR
-                 [--markdown demos/out/results.md] [--readme README.md]
+                 [--markdown demos/out/results.md] [--readme docs/RESULTS.md]
 
 - error against run time: one panel per scene, log-log, run time per simulated second (the run's own thread CPU
   time, so other load on the machine does not move the points; wall time for JSON written before it was recorded)
   against the maximum joint separation, each kind's runs as points and its Pareto front as a line (sweep over step
   and iterations);
 - drift and energy over time for each kind (series);
-- the results table (TABLE.json, one run per scene × kind) as Markdown into --markdown, and into README.md between the
-  markers <!-- results:begin --> and <!-- results:end --> when --readme is given (no figure in the README is typed by
+- the results table (TABLE.json, one run per scene × kind) as Markdown into --markdown, and into the page given (docs/RESULTS.md) between the
+  markers <!-- results:begin --> and <!-- results:end --> when --readme is given (no figure in the manual is typed by
   hand).
 Any of --sweep, --series, --table may be left out: that plot or table is then not made.
 """
@@ -150,7 +150,7 @@ def main():
     p.add_argument("--table", help="quathinge-compare JSON, one run per scene x kind")
     p.add_argument("--images", default="demos/out", help="directory for the PNGs (default demos/out)")
     p.add_argument("--markdown", default="demos/out/results.md", help="the results table as Markdown")
-    p.add_argument("--readme", help="README to write the table into, between the results markers")
+    p.add_argument("--readme", help="manual page to write the table into, between the results markers (docs/RESULTS.md)")
     p.add_argument("--note", default="", help="one line said above the table (machine, command)")
     a = p.parse_args()
     os.makedirs(a.images, exist_ok=True)
