@@ -28,11 +28,13 @@ scenes=(pendulum chain10 chain30 chain100 heavy10 heavy100 heavy1000 heavy10000 
 # the same scenes and rows stepped from matched states: each kind's trajectory, both kinds' rows (docs/ROW_BASIS.md)
 "$build/demos/quathinge-sweep" --matched -s "${scenes[@]}" -b radial --orders point-first -i 10 20 50 100 250 -j 2 \
   -o "$out/matched.csv" >"$out/matched.txt"
-# the source the runs came from (what --publish writes, docs/RESULTS.md and the plot, is not a change to it)
+# the source the runs came from (what --publish writes, docs/RESULTS.md and the plot, is not a change to it), kept
+# beside the output: the published section names no revision (the manual carries no commit hashes)
 revision="$(git rev-parse --short HEAD 2>/dev/null || echo unknown)$(git diff --quiet HEAD -- . ':!docs/RESULTS.md' ':!docs/images' \
   2>/dev/null || echo ' + local changes')"
+echo "$revision" >"$out/revision.txt"
 note="Measured by \`bash demos/make_sweep.sh\` on $(lscpu | sed -n 's/^Model name: *//p' | head -1), $(date -u +%Y-%m-%d); \
-source $revision; Bullet $(pkg-config --modversion bullet) float."
+Bullet $(pkg-config --modversion bullet) float."
 /usr/bin/python3 demos/sweep_report.py "$out/sweep.csv" --matched "$out/matched.csv" --out "$out" --note "$note"
 if [ "$publish" = 1 ]; then
   cp "$out/sweep.png" docs/images/row_basis_sweep.png
