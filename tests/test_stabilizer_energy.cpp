@@ -39,6 +39,7 @@ struct BarPendulum
 	{
 		btQuaternionHingeStabilizerSettings s;
 		s.conserveEnergy = conserveEnergy;
+		s.keepEnergyAndMomentum = false;  // conserveEnergy alone, against the projection's own damping (before it)
 		return s;
 	}
 	// J: kinetic (linear and rotational) plus the gravity potential

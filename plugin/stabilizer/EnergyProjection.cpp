@@ -10,6 +10,7 @@
 // The scaling is limited to kMaxScalePerStep per step, and skipped when T or E_ref − V is not positive (at a turning
 // point the kinetic energy is too small to carry the deficit: it is made up over the next steps) and when a fixed
 // body the island hangs on moves (a moving kinematic body does work: not conservative).
+#include "IslandInvariants.h"
 #include "StabilizerIsland.h"
 
 #include "quathinge/btQuaternionHingeConstraint.h"
@@ -58,15 +59,6 @@ Energy islandEnergy(const Island& island)
 	return e;
 }
 
-bool hangsOnMovingBody(const Island& island)
-{
-	for (const JointSlot& js : island.joints)
-		for (int s = 0; s < 2; ++s)
-			if (js.body[s] < 0 && js.rigid[s] &&  // (a contact slot has no partner body: IslandContacts.h)
-				(!js.rigid[s]->getLinearVelocity().fuzzyZero() || !js.rigid[s]->getAngularVelocity().fuzzyZero()))
-				return true;
-	return false;
-}
 }  // namespace
 
 double restoreEnergy(Island& island)

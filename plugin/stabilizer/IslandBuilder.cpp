@@ -358,8 +358,8 @@ int buildIslands(const Array<SignatureEntry>& scan, bool forceSparse, Array<std:
 		groups[size_t(found.first->second)].push_back(scan[i]);
 	}
 	// An island whose entries are unchanged is kept (no allocation, no analysis) and reset to a fresh one's state (its
-	// kept projection and energy reference are forgotten, so every island steps as if all were rebuilt); the others
-	// are built. A contact that comes or goes (projectContacts) rebuilds its own island, not the world's.
+	// kept projection, energy reference and energy guard are forgotten, so every island steps as if all were
+	// rebuilt); the others are built. A contact that comes or goes (projectContacts) rebuilds its own island, not the world's.
 	Array<std::unique_ptr<Island>> old;
 	old.swap(islands);
 	for (Array<SignatureEntry>& entries : groups)
@@ -371,6 +371,7 @@ int buildIslands(const Array<SignatureEntry>& scan, bool forceSparse, Array<std:
 				island = std::move(o);
 				forgetProjection(*island);
 				island->energyReferenceSet = false;
+				island->invariants = Island::Invariants();
 				break;
 			}
 		if (!island)

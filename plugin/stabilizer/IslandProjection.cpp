@@ -156,6 +156,44 @@ struct IslandStep
 		changeVelocities(island);
 	}
 
+	// keepEnergyAndMomentum (IslandInvariants.h, docs/ENERGY.md Q16): the share of the position correction's potential
+	// energy change that the joints' curvature causes, not the solver's leftover. With C(x₀) ≈ h r + ½h² vᵀ∇²C v and
+	// J(x₀) v ≈ r + h vᵀ∇²C v (r the solver's velocity residual at the step's start, where C was closed), the curvature
+	// part of C is C_c = h J(x₀) v − C(x₀); its correction Δx_c = M⁻¹Jᵀ K⁻¹(−C_c) (the factorization just made at x₀,
+	// one solve) changes the potential energy by −Σ m g·Δx_c. Uses λ and the deltas as scratch before the Newton solve.
+	void measureCurvatureLift()
+	{
+		const double h = settings.timeStep;
+		for (size_t j = 0; j < island.joints.size(); ++j)
+		{
+			const JointSlot& js = island.joints[j];
+			Eigen::Matrix<double, 12, 1> u = Eigen::Matrix<double, 12, 1>::Zero();
+			for (int side = 0; side < 2; ++side)
+			{
+				const btRigidBody* body = js.body[side] >= 0 ? island.bodies[js.body[side]].rigid : js.rigid[side];
+				if (!body) continue;
+				const btVector3& v = body->getLinearVelocity();
+				const btVector3& w = body->getAngularVelocity();
+				u.segment<3>(6 * side) << double(v.x()), double(v.y()), double(v.z());
+				u.segment<3>(6 * side + 3) << double(w.x()), double(w.y()), double(w.z());
+			}
+			const JointBlock<R>& jb = island.blocks[j];
+			island.lambda[j] = jb.c - h * (jb.jacobian * u);
+		}
+		if (island.useSparse) island.sparse->template solve<R>(island.lambda.data());
+		else island.block.solve(island.k, island.lambda.data());
+		accumulateDeltas(island);
+		double lift = 0;
+		for (const IslandBody& b : island.bodies)
+			if (b.rigid->getInvMass() > 0)
+			{
+				const btVector3& g = b.rigid->getGravity();
+				lift -= (double(g.x()) * b.delta[0] + double(g.y()) * b.delta[1] + double(g.z()) * b.delta[2]) /
+						double(b.rigid->getInvMass());
+			}
+		result.curvatureLift = lift;
+	}
+
 	// Some contact row in the system pulls in the last solve (λ < 0: IslandContacts.h).
 	bool pullingContact() const
 	{
@@ -195,6 +233,7 @@ struct IslandStep
 				if (factorNow)
 				{
 					if (!factorize()) break;
+					if (settings.curvatureLift && result.iterations == 0) measureCurvatureLift();
 					chordStalled = false;
 					// After the first Newton step the bodies only move by the small rest of the correction: project the
 					// velocities now, with this factorization, and only touch them up at the final positions below

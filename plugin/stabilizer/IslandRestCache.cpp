@@ -35,7 +35,7 @@ struct Gather
 };
 
 // Scalars gathered per island body, per fixed partner, per joint (and its multi-turn angle), and for the step.
-const size_t kPerBody = 12 + 3 + 3 + 1 + 3 + 3 + 3 + 1;
+const size_t kPerBody = 12 + 3 + 3 + 1 + 3 + 3 + 3 + 1 + 3;
 const size_t kPerFixedSide = 12 + 3 + 3;
 const size_t kPerJoint = 12 + 12 + 1 + 2;
 // a contact slot (projectContacts): its points' count, then per point its local and partner points, normal and sign
@@ -67,6 +67,7 @@ void gatherInputs(const Island& island, btScalar timeStep, Array<btScalar>& out)
 		g.add(body.getLinearFactor());
 		g.add(body.getAngularFactor());
 		g.add(btScalar(b.contactScale));  // whether it touches something outside the island (IslandBodies.cpp)
+		g.add(body.getGravity());  // the energy restoration's potential (IslandInvariants.h)
 	}
 	for (const JointSlot& js : island.joints)
 	{
@@ -174,10 +175,10 @@ bool replayIfAtRest(Island& island, btScalar timeStep, ProjectionResult& result)
 	}
 	// The projection's effects, as it made them: every body's pose (and interpolation pose) and Bullet's world inverse
 	// inertia after a position iteration (movePositions, finishPositions), every body's velocities (and interpolation
-	// velocities) after a velocity solve (changeVelocities).
+	// velocities) after a velocity solve (changeVelocities) or the energy and momentum restoration (IslandInvariants.h).
 	const ProjectionResult& kept = match->result;
 	const bool posesSet = kept.iterations > 0;
-	const bool velocitiesSet = kept.solves > kept.iterations;
+	const bool velocitiesSet = kept.solves > kept.iterations || kept.velocitiesRestored;
 	const btScalar* out = match->outputs.data();
 	for (IslandBody& b : island.bodies)
 	{

@@ -99,6 +99,7 @@ struct IslandBody
 	// This step: 1, or kContactWeight when the body touches something outside its island (IslandBodies.cpp)
 	double contactScale = 1;
 	int contactSet = -1;  // its contact slot's points in Island::contacts (projectContacts), else −1
+	btVector3 startPosition = btVector3(0, 0, 0);  // its centre of mass before this step's projection (IslandInvariants.h)
 };
 
 /// J of one joint in R-row blocks (the block's storage rows, BlockShape, are zero).
@@ -195,6 +196,8 @@ struct ProjectionResult
 	btScalar residualAfter = 0;
 	btScalar velocityResidualBefore = 0;
 	btScalar velocityResidualAfter = 0;
+	double curvatureLift = 0;  // J: the joints' curvature's share of the position correction's potential energy change
+	bool velocitiesRestored = false;  // the energy and momentum restoration changed the velocities (IslandInvariants.h)
 };
 
 /// The last projection of an island, kept to replay while the island is at rest (IslandRestCache.h).
@@ -242,6 +245,19 @@ struct Island
 	// conserveEnergy (EnergyProjection.cpp): the energy the island had when first projected (J).
 	double energyReference = 0;
 	bool energyReferenceSet = false;
+	// keepEnergyAndMomentum (IslandInvariants.h): this step's record before the projection, and the guard's history.
+	struct Invariants
+	{
+		double kinetic = 0;                                          // J
+		Eigen::Vector3d momentum = Eigen::Vector3d::Zero();          // kg·m/s
+		double mass = 0;                                             // kg
+		bool free = false;     // no fixed partner, nothing outside touching, every axis free: P and L are invariants
+		bool source = false;   // a drive, an outside contact or a moving partner can feed energy in
+		// the guard: the energy's running average (J), its lowest value, the restoration's summed work (J) then and now
+		double scale = 0;      // J: the island's energy scale (set at its first record)
+		double average = 0, lowest = 0, workAtLowest = 0, work = 0, elapsed = 0;
+		bool guarded = false;  // the guard stopped the energy restoration (until the island is rebuilt)
+	} invariants;
 	RestCache restCache;
 };
 
@@ -274,6 +290,7 @@ struct ProjectionSettings
 	bool velocities;
 	double regularization;
 	double rotationWeight;  // the position metric's inertia factor (btQuaternionHingeStabilizerSettings)
+	bool curvatureLift = false;  // measure ProjectionResult::curvatureLift (keepEnergyAndMomentum)
 };
 
 

@@ -6,6 +6,7 @@
 
 #include "AttachedBodies.h"
 #include "IslandContacts.h"
+#include "IslandInvariants.h"
 #include "IslandRestCache.h"
 #include "StabilizerIsland.h"
 
@@ -150,6 +151,7 @@ const btQuaternionHingeStabilizerStats& btQuaternionHingeStabilizer::stabilize(b
 	settings.velocities = m_settings.projectVelocities;
 	settings.regularization = m_settings.regularization;
 	settings.rotationWeight = m_settings.positionRotationWeight;
+	settings.curvatureLift = m_settings.keepEnergyAndMomentum;
 	// Bodies touching something outside their island (the ground, another object: a contact at or below zero
 	// distance) take a tenth of their share of the position correction in its weighted metric, so that a ragdoll on
 	// the ground is closed by moving its free parts rather than pushing the grounded ones into the ground, which the
@@ -189,9 +191,20 @@ const btQuaternionHingeStabilizerStats& btQuaternionHingeStabilizer::stabilize(b
 		readAngleReferences(island);
 		if (!replayIfAtRest(island, timeStep, r))
 		{
+			// the energy and momentum restoration (IslandInvariants.h) is part of the projection the rest cache keeps:
+			// a function of the same inputs
+			if (m_settings.keepEnergyAndMomentum) recordInvariants(island);
 			r = projectIsland(island, settings);
+			if (m_settings.keepEnergyAndMomentum)
+			{
+				const InvariantResult k = restoreInvariants(island, r, double(timeStep), settings.velocities);
+				if (k.momentumRestored) ++m_stats.momentumRestoredIslands;
+				if (k.energyRestored) ++m_stats.energyRestoredIslands;
+				m_stats.energyCorrection = std::max(m_stats.energyCorrection, btScalar(std::fabs(k.scale - 1)));
+			}
 			rememberProjection(island, r);
 		}
+		if (m_settings.keepEnergyAndMomentum && island.invariants.guarded) ++m_stats.energyGuardedIslands;
 		if (m_settings.conserveEnergy)
 			m_stats.energyCorrection = std::max(m_stats.energyCorrection, btScalar(restoreEnergy(island)));
 		++m_stats.islands;

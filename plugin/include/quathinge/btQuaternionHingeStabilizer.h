@@ -186,8 +186,24 @@ struct btQuaternionHingeStabilizerSettings
 	/// finite. [0, 1e-2]; 0 only when no island is ever redundant.
 	btScalar regularization = btScalar(1e-9);
 	btQuaternionHingeStabilizerSolver solver = BT_QHSTAB_SOLVER_AUTO;
-	/// Energy-consistent option (off by default), for islands the user knows to be conservative: gravity only — no
-	/// damping, motors, springs, friction, limits being hit, contacts or other constraints doing work. After the
+	/// The projection does no work (on by default; docs/ENERGY.md, Q15–Q19). Ideal joints exert no power, so their
+	/// correction may neither add nor remove energy, nor change a free island's momentum. Per island and step: after
+	/// the projection the kinetic energy is set so that the island's energy (kinetic + the potential of each body's own
+	/// gravity) is what it was before the projection — the position correction's lift of the sag Bullet's solver left
+	/// is paid for by the kinetic energy, and the share of it the velocity projection removes (the joints' curvature,
+	/// (m d²/I)(ωh)² per step, and the solver's leftover) is given back. What Bullet's step did (gravity, damping,
+	/// motors, friction, contacts, limits, a push) is kept. A free island (no static, kinematic or touching partner)
+	/// also gets its linear and angular momentum back by a rigid velocity change (J v is blind to it), and then only its
+	/// motion relative to that rigid motion is scaled. Not restored in a step where a limit or contact row was
+	/// projected (their work), on an island hung on a moving kinematic body, and on an island whose averaged energy rose
+	/// by the restoration's own work (a guard: getLastStats().energyGuardedIslands). At most 10% of the speeds per step.
+	/// Measured (float, 60 Hz, 10 iterations; docs/ENERGY.md): a bar pendulum released at 90° keeps its swing energy
+	/// and period, where the projection alone took 89% of it in 60 s; a free spinning chain keeps its momentum. Off:
+	/// the projection's own damping as before (a pendulum's swing dies out faster than stock's; chains settle sooner).
+	bool keepEnergyAndMomentum = true;
+	/// Deprecated: keepEnergyAndMomentum (the default) holds conservative scenes' energy without a stored reference
+	/// (docs/ENERGY.md, "conserveEnergy"). Off by default, for islands the user knows to be conservative: gravity only —
+	/// no damping, motors, springs, friction, limits being hit, contacts or other constraints doing work. After the
 	/// velocity projection the island's velocities are scaled by one factor so that its energy (kinetic + the
 	/// gravity potential of each body's own gravity) returns to the value it had when the island was first projected
 	/// (J v = 0 is kept exactly: it is linear in v). At most 10% per step; skipped for an island hung on a moving
@@ -233,7 +249,12 @@ struct btQuaternionHingeStabilizerStats
 	bool structureRebuilt = false;  ///< the islands were (re)built this step: joints, bodies or their state changed
 	int islandsBuilt = 0;  ///< … of which built anew (an island whose own joints and contacts are unchanged is kept)
 	int numericalIssues = 0;        ///< pivots that were not positive and were treated as inactive rows (none expected)
-	btScalar energyCorrection = 0;  ///< conserveEnergy: the largest relative velocity scaling |s − 1| applied
+	btScalar energyCorrection = 0;  ///< the largest relative velocity scaling |s − 1| applied (keepEnergyAndMomentum,
+									///< conserveEnergy)
+	int energyRestoredIslands = 0;    ///< islands whose kinetic energy keepEnergyAndMomentum set this step
+	int momentumRestoredIslands = 0;  ///< free islands whose momentum keepEnergyAndMomentum put back this step
+	int energyGuardedIslands = 0;     ///< islands whose energy restoration the guard has stopped (their averaged energy
+									  ///< rose by the restoration's own work; until the island is rebuilt)
 	double timeMicroseconds = 0;    ///< wall time of the call
 };
 

@@ -1,0 +1,250 @@
+// The projection does no work: IslandInvariants.h (docs/ENERGY.md, Q15–Q19).
+#include "IslandInvariants.h"
+
+#include "IslandRestCache.h"
+
+#include "quathinge/btQuaternionHingeConstraint.h"
+
+#include "BulletDynamics/Dynamics/btRigidBody.h"
+
+#include <Eigen/Cholesky>
+#include <Eigen/Geometry>
+
+#include <algorithm>
+#include <cmath>
+
+namespace quathinge
+{
+namespace stabilizer
+{
+namespace
+{
+// Largest relative change of the deformation speeds in one step (Q19; dimensionless). The losses and gains it
+// offsets are a few per cent per step at most (the curvature share (m d²/I)(ωh)², 1.2% per step for a bar pendulum
+// at its lowest point at 60 Hz); the cap binds only where the kinetic energy is tiny: at a turning point, at rest.
+const double kMaxScalePerStep = 0.1;
+// Below this share of the island's energy scale the kinetic energy is not scaled (J/J): nothing to carry it.
+const double kTinyKinetic = 1e-12;
+// The guard: the energy's running average (time constant kGuardTime, s) may rise above its lowest value by at most
+// kGuardGrowth of the island's energy scale while the restoration's own work since then is at least kGuardShare of
+// that rise; past it, an island without a source (a drive, an outside contact, a moving partner) stops restoring.
+const double kGuardTime = 2;
+const double kGuardGrowth = 0.1;
+const double kGuardShare = 0.5;
+
+Eigen::Vector3d toEigen(const btVector3& v) { return Eigen::Vector3d(double(v.x()), double(v.y()), double(v.z())); }
+btVector3 toBullet(const Eigen::Vector3d& v) { return btVector3(btScalar(v.x()), btScalar(v.y()), btScalar(v.z())); }
+
+// A body's mass (0 for an infinite one) and world inertia R diag(I_local) Rᵀ (an axis of infinite inertia counts 0:
+// it stores no energy, and such a body makes its island not free).
+double massOf(const btRigidBody& body) { return body.getInvMass() > 0 ? 1.0 / double(body.getInvMass()) : 0.0; }
+Eigen::Matrix3d inertiaOf(const btRigidBody& body)
+{
+	const btMatrix3x3& basis = body.getCenterOfMassTransform().getBasis();
+	const btVector3& invLocal = body.getInvInertiaDiagLocal();
+	Eigen::Matrix3d r;
+	Eigen::Vector3d local;
+	for (int i = 0; i < 3; ++i)
+	{
+		local[i] = invLocal[i] > 0 ? 1.0 / double(invLocal[i]) : 0.0;
+		for (int j = 0; j < 3; ++j) r(i, j) = double(basis[i][j]);
+	}
+	return r * local.asDiagonal() * r.transpose();
+}
+bool fullyFree(const btRigidBody& body)
+{
+	const btVector3& invLocal = body.getInvInertiaDiagLocal();
+	return body.getInvMass() > 0 && invLocal.x() > 0 && invLocal.y() > 0 && invLocal.z() > 0 &&
+		   body.getLinearFactor() == btVector3(1, 1, 1) && body.getAngularFactor() == btVector3(1, 1, 1);
+}
+double kineticOf(const btRigidBody& body, double mass)
+{
+	const Eigen::Vector3d v = toEigen(body.getLinearVelocity()), w = toEigen(body.getAngularVelocity());
+	return 0.5 * (mass * v.squaredNorm() + w.dot(inertiaOf(body) * w));
+}
+void setVelocities(btRigidBody& body, const btVector3& v, const btVector3& w)
+{
+	body.setLinearVelocity(v);
+	body.setAngularVelocity(w);
+	body.setInterpolationLinearVelocity(v);
+	body.setInterpolationAngularVelocity(w);
+}
+
+// The guard's running average of the energy after the step (J), and whether it trips now.
+void updateGuard(Island& island, double energyAfter, double restorationWork, double timeStep)
+{
+	Island::Invariants& inv = island.invariants;
+	inv.work += restorationWork;
+	if (inv.elapsed == 0) inv.average = inv.lowest = energyAfter, inv.workAtLowest = inv.work;
+	else inv.average += std::min(1.0, timeStep / kGuardTime) * (energyAfter - inv.average);
+	inv.elapsed += timeStep;
+	if (inv.average < inv.lowest)
+	{
+		inv.lowest = inv.average;
+		inv.workAtLowest = inv.work;
+	}
+	const double rise = inv.average - inv.lowest;
+	if (!inv.guarded && !inv.source && rise > kGuardGrowth * inv.scale && inv.work - inv.workAtLowest > kGuardShare * rise)
+	{
+		inv.guarded = true;
+		forgetProjection(island);  // a kept projection restored energy
+	}
+}
+}  // namespace
+
+bool hangsOnMovingBody(const Island& island)
+{
+	for (const JointSlot& js : island.joints)
+		for (int s = 0; s < 2; ++s)
+			if (js.body[s] < 0 && js.rigid[s] &&  // (a contact slot has no partner body: IslandContacts.h)
+				(!js.rigid[s]->getLinearVelocity().fuzzyZero() || !js.rigid[s]->getAngularVelocity().fuzzyZero()))
+				return true;
+	return false;
+}
+
+void recordInvariants(Island& island)
+{
+	Island::Invariants& inv = island.invariants;
+	double kinetic = 0, mass = 0;
+	Eigen::Vector3d momentum = Eigen::Vector3d::Zero(), moment = Eigen::Vector3d::Zero();
+	bool free = true, source = false;
+	for (IslandBody& b : island.bodies)
+	{
+		const btRigidBody& body = *b.rigid;
+		b.startPosition = body.getCenterOfMassPosition();
+		const double m = massOf(body);
+		const Eigen::Vector3d x = toEigen(b.startPosition), v = toEigen(body.getLinearVelocity());
+		kinetic += kineticOf(body, m);
+		mass += m;
+		momentum += m * v;
+		moment += m * x;
+		free = free && fullyFree(body);
+		if (b.contactScale != 1) source = true;  // touching something outside the island (a contact does work)
+	}
+	for (const JointSlot& js : island.joints)
+	{
+		if (js.body[0] < 0 || js.body[1] < 0) free = false;  // a fixed partner (or a contact slot's fixed points)
+		if (js.joint && js.joint->getDriveMode() != BT_QHINGE_DRIVE_OFF) source = true;
+	}
+	if (hangsOnMovingBody(island)) source = true;
+	inv.kinetic = kinetic;
+	inv.mass = mass;
+	inv.momentum = momentum;
+	inv.free = free && !source && mass > 0;
+	inv.source = source;
+	const Eigen::Vector3d centre = mass > 0 ? Eigen::Vector3d(moment / mass) : Eigen::Vector3d::Zero();
+	if (inv.scale == 0)  // the island's energy scale: Σ m max(|g|, 1 m/s²)(1 m + 2|x − x̄|), plus its kinetic energy
+	{
+		for (const IslandBody& b : island.bodies)
+			inv.scale += massOf(*b.rigid) * std::max(double(b.rigid->getGravity().length()), 1.0) *
+						 (1 + 2 * (toEigen(b.startPosition) - centre).norm());
+		inv.scale += kinetic;
+	}
+}
+
+InvariantResult restoreInvariants(Island& island, ProjectionResult& result, double timeStep, bool restoreEnergy)
+{
+	Island::Invariants& inv = island.invariants;
+	InvariantResult out;
+	if (result.iterations == 0 && result.solves == 0)  // nothing moved: the energy is the recorded one
+	{
+		if (restoreEnergy)
+		{
+			double potential = 0;
+			for (const IslandBody& b : island.bodies)
+				potential -= massOf(*b.rigid) * double(b.rigid->getGravity().dot(b.startPosition));
+			updateGuard(island, inv.kinetic + potential, 0, timeStep);
+		}
+		out.guarded = inv.guarded;
+		return out;
+	}
+	// The potential energy the projection added (Q16) and the state it left (q', v').
+	double lift = 0, potential = 0, kinetic = 0, mass = 0;
+	Eigen::Vector3d momentum = Eigen::Vector3d::Zero(), moment = Eigen::Vector3d::Zero();
+	for (const IslandBody& b : island.bodies)
+	{
+		const btRigidBody& body = *b.rigid;
+		const double m = massOf(body);
+		const btVector3 x = body.getCenterOfMassPosition();
+		lift -= m * double(body.getGravity().dot(x - b.startPosition));
+		potential -= m * double(body.getGravity().dot(x));
+		kinetic += kineticOf(body, m);
+		mass += m;
+		momentum += m * toEigen(body.getLinearVelocity());
+		moment += m * toEigen(x);
+	}
+	const bool oneSided = result.activeLimitRows > 0 || result.contactRows > 0;  // a stop's or a contact's work
+	const bool energy = restoreEnergy && !oneSided && !inv.guarded && !hangsOnMovingBody(island);
+	// (Q16) the lift of the sag the solver's leftover let happen is paid by the kinetic energy; the joints' curvature's
+	// share (measured by the position stage, ProjectionResult::curvatureLift) is not: the step's drift along the
+	// tangent left the manifold, the motion did not gain that potential energy
+	const double target = inv.kinetic - (lift - result.curvatureLift);  // T*
+	double after = kinetic;                    // the kinetic energy this leaves (J)
+	if (inv.free)
+	{
+		// (Q17) the island's rigid motion: V = P/M, Ω = I_lock⁻¹ L about the centre of mass, I_lock its locked inertia
+		const Eigen::Vector3d centre = moment / mass;
+		Eigen::Matrix3d lock = Eigen::Matrix3d::Zero();
+		Eigen::Vector3d angular = Eigen::Vector3d::Zero();
+		for (const IslandBody& b : island.bodies)
+		{
+			const btRigidBody& body = *b.rigid;
+			const double m = massOf(body);
+			const Eigen::Vector3d r = toEigen(body.getCenterOfMassPosition()) - centre;
+			const Eigen::Matrix3d inertia = inertiaOf(body);
+			lock += inertia + m * (r.squaredNorm() * Eigen::Matrix3d::Identity() - r * r.transpose());
+			angular += m * r.cross(toEigen(body.getLinearVelocity())) + inertia * toEigen(body.getAngularVelocity());
+		}
+		const Eigen::LDLT<Eigen::Matrix3d> lockInverse(lock);
+		const Eigen::Vector3d velocityNow = momentum / mass, spinNow = lockInverse.solve(angular);
+		// P is put back (Q17); the rigid spin stays the projection's: putting L back through I_lock (the rigid motion
+		// of least M-norm with that L) was measured to make Bullet's next steps drift more (docs/ENERGY.md)
+		const Eigen::Vector3d velocity = inv.momentum / mass, spin = spinNow;
+		// (Q18) the deformation d = v' − (its rigid motion) is M-orthogonal to every rigid motion: T = T_rigid + T_d
+		double deformation = 0;
+		for (const IslandBody& b : island.bodies)
+		{
+			const btRigidBody& body = *b.rigid;
+			const Eigen::Vector3d r = toEigen(body.getCenterOfMassPosition()) - centre;
+			const Eigen::Vector3d dv = toEigen(body.getLinearVelocity()) - velocityNow - spinNow.cross(r);
+			const Eigen::Vector3d dw = toEigen(body.getAngularVelocity()) - spinNow;
+			deformation += 0.5 * (massOf(body) * dv.squaredNorm() + dw.dot(inertiaOf(body) * dw));
+		}
+		const double rigid = 0.5 * (inv.momentum.dot(velocity) + angular.dot(spin));
+		// (Q19) the deformation scaled to what T* leaves it
+		double s = 1;
+		if (energy && deformation > kTinyKinetic * inv.scale)
+			s = std::clamp(std::sqrt(std::max(target - rigid, 0.0) / deformation), 1 - kMaxScalePerStep, 1 + kMaxScalePerStep);
+		for (IslandBody& b : island.bodies)
+		{
+			btRigidBody& body = *b.rigid;
+			const Eigen::Vector3d r = toEigen(body.getCenterOfMassPosition()) - centre;
+			const Eigen::Vector3d dv = toEigen(body.getLinearVelocity()) - velocityNow - spinNow.cross(r);
+			const Eigen::Vector3d dw = toEigen(body.getAngularVelocity()) - spinNow;
+			setVelocities(body, toBullet(velocity + spin.cross(r) + s * dv), toBullet(spin + s * dw));
+		}
+		after = rigid + s * s * deformation;
+		out.momentumRestored = true;
+		out.energyRestored = s != 1;
+		out.scale = s;
+		result.velocitiesRestored = true;
+	}
+	else if (energy && kinetic > kTinyKinetic * inv.scale)
+	{
+		// an island held by a fixed partner: v' scaled as a whole (J v' = 0 is linear in v')
+		const double s = std::clamp(std::sqrt(std::max(target, 0.0) / kinetic), 1 - kMaxScalePerStep, 1 + kMaxScalePerStep);
+		const btScalar scale = btScalar(s);
+		for (IslandBody& b : island.bodies)
+			setVelocities(*b.rigid, b.rigid->getLinearVelocity() * scale, b.rigid->getAngularVelocity() * scale);
+		after = s * s * kinetic;
+		out.energyRestored = true;
+		out.scale = s;
+		result.velocitiesRestored = true;
+	}
+	if (restoreEnergy) updateGuard(island, after + potential, after - kinetic, timeStep);
+	out.guarded = inv.guarded;
+	return out;
+}
+
+}  // namespace stabilizer
+}  // namespace quathinge

@@ -1,0 +1,45 @@
+// The projection does no work (docs/ENERGY.md, Q15–Q19; settings.keepEnergyAndMomentum).
+//
+// Ideal joints exert no power, so neither may their correction. Bullet has integrated the step (q, v) when the
+// stabilizer runs; the projection moves the island to (q', v'). Per island, across that one call:
+//   (Q15) E(q, v) = Σ_b ½ m_b |v_b|² + ½ ω_bᵀ I_b ω_b − m_b g_b·x_b           (g_b: the body's own gravity)
+//   (Q16) T* = T(v) − ΔV,  ΔV = −Σ_b m_b g_b·(x'_b − x_b)       the kinetic energy that makes E(q', v*) = E(q, v)
+// A free island (every row between two island bodies, nothing outside touching it, no restricted axes) also gets its
+// linear momentum P and angular momentum L about its centre of mass back by a rigid velocity correction, which J v
+// cannot see (Q17, Q18); then only its deformation velocity (v' less its rigid motion, M-orthogonal to it) is scaled
+// to T* (Q19). An island held by a fixed partner has no momentum invariant: v' is scaled as a whole. What Bullet's own
+// step did (gravity, damping, motors, friction, contacts, limits, ERP, a push) is in (q, v) already: it is kept.
+// Not restored: a step in which a one-sided row (a limit, a contact: their stop's work) was projected, an island hung on
+// a moving kinematic body (it does work), and an island whose averaged energy grew by the restoration (the guard).
+#ifndef QUATHINGE_STABILIZER_ISLAND_INVARIANTS_H
+#define QUATHINGE_STABILIZER_ISLAND_INVARIANTS_H
+
+#include "StabilizerIsland.h"
+
+namespace quathinge
+{
+namespace stabilizer
+{
+/// What one restoration did (summed into btQuaternionHingeStabilizerStats).
+struct InvariantResult
+{
+	bool momentumRestored = false;  // a free island's P and L were put back (Q17, Q18)
+	bool energyRestored = false;    // the kinetic energy was set to T* (Q16, Q19)
+	bool guarded = false;           // the guard has stopped this island's energy restoration
+	double scale = 1;               // the velocity scaling applied (Q19), 1 when none
+};
+
+/// Records the island's energy, momentum and body positions before its projection (Island::invariants).
+void recordInvariants(Island& island);
+
+/// After the projection (result): restores what recordInvariants recorded, the energy only if restoreEnergy (the
+/// velocities were projected). timeStep (s) paces the guard's average. Sets result.velocitiesRestored when it changed
+/// the velocities (the rest cache replays them then).
+InvariantResult restoreInvariants(Island& island, ProjectionResult& result, double timeStep, bool restoreEnergy);
+
+/// An island hung on a fixed partner that moves (a kinematic body): its J v = 0 is not homogeneous.
+bool hangsOnMovingBody(const Island& island);
+}  // namespace stabilizer
+}  // namespace quathinge
+
+#endif
