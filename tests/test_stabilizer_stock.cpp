@@ -1,0 +1,667 @@
+// The hinges an app already has, held with no class swapped (projectStockHinges, projectDofHinges: on by default;
+// plugin/stabilizer/StockHingeRows.h): btHingeConstraint and the 6-dofs set up as hinges (btGeneric6DofSpring2Constraint
+// in every rotation order, its free axis x, y or z; btGeneric6DofConstraint). Their rows are the exact derivative of
+// their C and of the limit variable (finite differences); the limit variable is the joint's own angle and acts exactly
+// where the joint's own limit test acts (low > high free, a range of 2π or more never, the wrapped angle); chains of
+// them are held to the stabilizer's tolerances and their limits within 1e-3 rad, where the solver alone parts them by
+// centimetres; a world whose joints the filter leaves out steps bit for bit as without the stabilizer; the filter and
+// the stats see every kind; spider.bullet's 24 stock hinges are held as loaded.
+#ifdef QUATHINGE_HAVE_STABILIZER
+#include "StockHingeRows.h"
+#include "support/StabilizerScene.h"
+#include "support/World.h"
+
+#include <btBulletDynamicsCommon.h>
+#ifdef QUATHINGE_HAVE_WORLD_IMPORTER
+#include <btBulletWorldImporter.h>
+#endif
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cfloat>
+#include <cmath>
+#include <cstdlib>
+#include <cstring>
+#include <functional>
+#include <random>
+#include <string>
+#include <vector>
+
+using namespace qh_test;
+using quathinge::stabilizer::FrameHinge;
+using quathinge::stabilizer::FrameHingeKind;
+using quathinge::stabilizer::frameHingeLimitVariable;
+using quathinge::stabilizer::frameHingePositionRows;
+using quathinge::stabilizer::readFrameHinge;
+
+namespace
+{
+const double kPi = 3.14159265358979323846;
+// The brief's targets for every hinge (float, 60 Hz, 10 iterations, defaults): pivots within 1e-5 m, axes within
+// 1e-3 rad, stops within 1e-3 rad; double Bullet reaches kSeparationTolerance (StabilizerScene.h) as well.
+const double kHeldSeparation = 1e-5;   // m
+const double kHeldMisalignment = 1e-3;  // rad
+const double kHeldOvershoot = 1e-3;     // rad past a stop
+// The solver alone (no stabilizer) parts these chains by more than a millimetre: what the stabilizer is for.
+const double kUnheldSeparation = 1e-3;  // m
+
+btQuaternion randomUnit(std::mt19937& rng)
+{
+	std::normal_distribution<double> n(0, 1);
+	return btQuaternion(btScalar(n(rng)), btScalar(n(rng)), btScalar(n(rng)), btScalar(n(rng))).normalized();
+}
+
+// A basis whose column `axis` is w (unit), the next column u ⟂ w, the last w × u: right-handed.
+btMatrix3x3 basisWithAxis(int axis, const btVector3& w)
+{
+	const btVector3 u = w.cross(std::fabs(double(w.x())) < 0.9 ? btVector3(1, 0, 0) : btVector3(0, 1, 0)).normalized();
+	const btVector3 cols[3] = {w, u, w.cross(u)};
+	btMatrix3x3 m;
+	for (int k = 0; k < 3; ++k)
+		for (int r = 0; r < 3; ++r) m[r][(axis + k) % 3] = cols[k][r];
+	return m;
+}
+
+// A 6-dof hinge, free axis `axis`, limited to [lo, hi] (lo > hi: free): Bullet's URDF importer's revolute joint.
+btGeneric6DofSpring2Constraint* dofHinge(btRigidBody& a, btRigidBody& b, const btTransform& fa, const btTransform& fb,
+										 int axis, RotateOrder order, btScalar lo, btScalar hi)
+{
+	auto* d = new btGeneric6DofSpring2Constraint(a, b, fa, fb, order);
+	d->setLinearLowerLimit(btVector3(0, 0, 0));
+	d->setLinearUpperLimit(btVector3(0, 0, 0));
+	btVector3 low(0, 0, 0), high(0, 0, 0);
+	low[axis] = lo;
+	high[axis] = hi;
+	d->setAngularLowerLimit(low);
+	d->setAngularUpperLimit(high);
+	return d;
+}
+
+btGeneric6DofConstraint* oldDofHinge(btRigidBody& a, btRigidBody& b, const btTransform& fa, const btTransform& fb,
+									 int axis, btScalar lo, btScalar hi)
+{
+	auto* d = new btGeneric6DofConstraint(a, b, fa, fb, true);
+	d->setLinearLowerLimit(btVector3(0, 0, 0));
+	d->setLinearUpperLimit(btVector3(0, 0, 0));
+	btVector3 low(0, 0, 0), high(0, 0, 0);
+	low[axis] = lo;
+	high[axis] = hi;
+	d->setAngularLowerLimit(low);
+	d->setAngularUpperLimit(high);
+	return d;
+}
+
+// Body transforms putting joint frame B turned by theta about joint frame A's column `axis`, B's pivot `offset` off
+// A's (world), A anywhere.
+void placeFrames(std::mt19937& rng, const btTransform& fa, const btTransform& fb, int axis, double theta,
+				 const btVector3& offset, const btQuaternion& swing, btTransform& tA, btTransform& tB)
+{
+	tA = btTransform(randomUnit(rng), btVector3(1, 2, 3));
+	const btTransform frameA = tA * fa;
+	const btVector3 w = frameA.getBasis().getColumn(axis);
+	const btQuaternion turn(w, btScalar(theta));
+	const btTransform frameB(swing * turn * frameA.getRotation(), frameA.getOrigin() + offset);
+	tB = frameB * fb.inverse();
+}
+
+struct Kind
+{
+	std::string name;
+	std::function<btTypedConstraint*(btRigidBody&, btRigidBody&, const btTransform&, const btTransform&, btScalar,
+									 btScalar)>
+		make;  // (a, b, fa, fb, lo, hi)
+	int axis;  // the free axis of the frames (2 for a stock hinge)
+};
+
+// Every hinge kind: stock, 6dof2 in each rotation order about each axis, the old 6-dof about each axis.
+std::vector<Kind> kinds()
+{
+	std::vector<Kind> k;
+	k.push_back({"stock", [](btRigidBody& a, btRigidBody& b, const btTransform& fa, const btTransform& fb, btScalar lo,
+							 btScalar hi) {
+					 auto* h = new btHingeConstraint(a, b, fa, fb, false);
+					 h->setLimit(lo, hi);
+					 return static_cast<btTypedConstraint*>(h);
+				 },
+				 2});
+	for (int order = RO_XYZ; order <= RO_ZYX; ++order)
+		for (int axis = 0; axis < 3; ++axis)
+			k.push_back({"6dof2 order " + std::to_string(order) + " axis " + std::to_string(axis),
+						 [order, axis](btRigidBody& a, btRigidBody& b, const btTransform& fa, const btTransform& fb,
+									   btScalar lo, btScalar hi) {
+							 return static_cast<btTypedConstraint*>(dofHinge(a, b, fa, fb, axis, RotateOrder(order), lo, hi));
+						 },
+						 axis});
+	for (int axis = 0; axis < 3; ++axis)
+		k.push_back({"6dof axis " + std::to_string(axis),
+					 [axis](btRigidBody& a, btRigidBody& b, const btTransform& fa, const btTransform& fb, btScalar lo,
+							btScalar hi) { return static_cast<btTypedConstraint*>(oldDofHinge(a, b, fa, fb, axis, lo, hi)); },
+					 axis});
+	return k;
+}
+
+// The middle axis of a 6-dof's rotation order: its Euler angle is an asin, within ±90°.
+bool middleAxis(const Kind& k)
+{
+	if (k.name == "stock") return false;
+	static const int middle[6] = {1, 2, 0, 2, 0, 1};  // XYZ, XZY, YXZ, YZX, ZXY, ZYX
+	if (k.name.rfind("6dof2", 0) == 0) return middle[k.name[12] - '0'] == k.axis;
+	return k.axis == 1;  // btGeneric6DofConstraint: XYZ
+}
+}  // namespace
+
+TEST(StabilizerStock, RowsAndLimitVariableAreTheDerivatives)
+{
+	// Central differences of C and of the limit variable v under small translations and rotations of either body
+	// against J's columns and v's gradient (±g on ω_A, ω_B), over seeded random frames and poses near the hinge and up
+	// to 1 rad off it, for every kind. Relative error per max(1, |entry|): 1e-6 in double, 2e-3 in float (step 1e-5,
+	// or float's ε^⅓), as tests/test_stabilizer_locked.cpp.
+	const double tolerance = kDouble ? 1e-6 : 2e-3;  // dimensionless
+	const btScalar h = kDouble ? btScalar(1e-5) : btScalar(std::cbrt(double(FLT_EPSILON)));  // m or rad
+	std::mt19937 rng(11);
+	std::uniform_real_distribution<double> u(-1, 1);
+	auto vec = [&](double s) { return btVector3(btScalar(s * u(rng)), btScalar(s * u(rng)), btScalar(s * u(rng))); };
+	btBoxShape shape(btVector3(btScalar(0.2), btScalar(0.1), btScalar(0.1)));
+	btRigidBody a(1, nullptr, &shape), b(1, nullptr, &shape);
+	int checked = 0;
+	for (const Kind& kind : kinds())
+		for (int n = 0; n < 12; ++n)
+		{
+			const btTransform fa(randomUnit(rng), vec(0.3)), fb(randomUnit(rng), vec(0.3));
+			std::unique_ptr<btTypedConstraint> c(kind.make(a, b, fa, fb, -1, 1));
+			FrameHinge hinge;
+			ASSERT_NE(readFrameHinge(*c, true, true, &hinge), FrameHingeKind::None) << kind.name;
+			btTransform tA, tB;
+			const double reach = n % 2 ? 0.05 : 1.0;
+			placeFrames(rng, fa, fb, kind.axis, 2 * u(rng), vec(0.1), expRotation(vec(reach / std::sqrt(3.0))), tA, tB);
+			btScalar C[5], J[60], Cp[5], Cm[5], Jp[60], v, vp, vm;
+			btVector3 g, gp;
+			const int rows = frameHingePositionRows(hinge, tA, tB, C, J, 0, v, g);
+			ASSERT_EQ(rows, 5);
+			for (int side = 0; side < 2; ++side)
+				for (int k = 0; k < 6; ++k)
+				{
+					auto moved = [&](btScalar s) {
+						btTransform t = side == 0 ? tA : tB;
+						btVector3 e(0, 0, 0);
+						e[k % 3] = s;
+						if (k < 3) t.setOrigin(t.getOrigin() + e);
+						else t.setRotation(expRotation(e) * t.getRotation());
+						return t;
+					};
+					frameHingePositionRows(hinge, side == 0 ? moved(h) : tA, side == 1 ? moved(h) : tB, Cp, Jp, v, vp, gp);
+					frameHingePositionRows(hinge, side == 0 ? moved(-h) : tA, side == 1 ? moved(-h) : tB, Cm, Jp, v, vm, gp);
+					for (int r = 0; r < rows; ++r)
+					{
+						const double fd = double(Cp[r] - Cm[r]) / (2 * double(h));
+						const double entry = double(J[12 * r + 6 * side + k]);
+						EXPECT_NEAR(fd, entry, tolerance * std::max(1.0, std::fabs(entry)))
+							<< kind.name << " configuration " << n << " row " << r << " side " << side << " column " << k;
+					}
+					const double fd = double(vp - vm) / (2 * double(h));
+					const double entry = k < 3 ? 0.0 : double(side == 0 ? -g[k - 3] : g[k - 3]);
+					EXPECT_NEAR(fd, entry, tolerance * std::max(1.0, std::fabs(entry)))
+						<< kind.name << " limit variable, configuration " << n << " side " << side << " column " << k;
+				}
+			++checked;
+		}
+	EXPECT_EQ(checked, 12 * int(kinds().size()));
+}
+
+TEST(StabilizerStock, LimitVariableIsTheJointsOwnAngleAndActsWhereItsTestActs)
+{
+	// On the hinge, at seeded random angles and limits (low > high, ranges of 2π or more, ranges across ±π included),
+	// the limit variable and its stops say what the joint's own limit test says: stock's testLimit (getSolveLimit,
+	// getLimitSign), a 6-dof's getInfo1 (its limit motor's current position, which it tests against its limits). Cases
+	// within kEdge of a stop are skipped (the two compute the angle in different roundings).
+	const double kEdge = 1e-4;  // rad
+	const double kAngleTolerance = kDouble ? 1e-9 : 2e-5;  // rad: the same angle, computed two ways
+	std::mt19937 rng(5);
+	std::uniform_real_distribution<double> u(-1, 1);
+	btBoxShape shape(btVector3(btScalar(0.2), btScalar(0.1), btScalar(0.1)));
+	btRigidBody a(1, nullptr, &shape), b(1, nullptr, &shape);
+	int acting = 0, free = 0, compared = 0;
+	for (const Kind& kind : kinds())
+		for (int n = 0; n < 60; ++n)
+		{
+			const btTransform fa(randomUnit(rng), btVector3(0, btScalar(0.1), 0)), fb(randomUnit(rng), btVector3(0, 0, 0));
+			// limits: a third narrow, a third wide (up to 10 rad: a range of 2π or more, or wrapped ends), a third
+			// reversed (low > high: free)
+			double lo = 3 * u(rng), hi = lo + 2 * std::fabs(u(rng));
+			if (n % 3 == 1) hi = lo + 10 * std::fabs(u(rng));
+			if (n % 3 == 2) std::swap(lo, hi);
+			std::unique_ptr<btTypedConstraint> c(kind.make(a, b, fa, fb, btScalar(lo), btScalar(hi)));
+			const double reach = middleAxis(kind) ? 0.45 * kPi : kPi;  // the middle axis's asin reaches ±90°
+			btTransform tA, tB;
+			placeFrames(rng, fa, fb, kind.axis, reach * u(rng), btVector3(0, 0, 0), btQuaternion::getIdentity(), tA, tB);
+			FrameHinge hinge;
+			bool limit = false;
+			ASSERT_NE(readFrameHinge(*c, true, true, &hinge, &limit), FrameHingeKind::None);
+			ASSERT_EQ(limit, hinge.limit);
+			const double v = double(frameHingeLimitVariable(hinge, tA, tB));
+			bool ownActs, ownLower;
+			double ownPosition = v;
+			if (kind.name == "stock")
+			{
+				auto& stock = static_cast<btHingeConstraint&>(*c);
+				stock.testLimit(tA, tB);
+				ownActs = stock.getSolveLimit() != 0;
+				ownLower = stock.getLimitSign() > 0;
+				// the variable is the joint's angle less the range's centre, wrapped
+				const double ownAngle = double(stock.getHingeAngle(tA, tB));
+				const double centre = double(hinge.center);
+				EXPECT_NEAR(std::remainder(ownAngle - centre - v, 2 * kPi), 0.0, kAngleTolerance) << kind.name;
+			}
+			else
+			{
+				a.setCenterOfMassTransform(tA);
+				b.setCenterOfMassTransform(tB);
+				btTypedConstraint::btConstraintInfo1 info;
+				c->getInfo1(&info);
+				btScalar low, high;
+				if (c->getConstraintType() == D6_SPRING_2_CONSTRAINT_TYPE)
+				{
+					auto* motor = static_cast<btGeneric6DofSpring2Constraint&>(*c).getRotationalLimitMotor(kind.axis);
+					ownPosition = double(motor->m_currentPosition);
+					low = motor->m_loLimit;
+					high = motor->m_hiLimit;
+				}
+				else
+				{
+					auto* motor = static_cast<btGeneric6DofConstraint&>(*c).getRotationalLimitMotor(kind.axis);
+					ownPosition = double(motor->m_currentPosition);
+					low = motor->m_loLimit;
+					high = motor->m_hiLimit;
+				}
+				EXPECT_NEAR(v, ownPosition, kAngleTolerance) << kind.name << " lo " << lo << " hi " << hi;
+				ownActs = low <= high && (ownPosition < low || ownPosition > high);
+				ownLower = ownPosition < low;
+			}
+			if (std::fabs(v - double(hinge.low)) < kEdge || std::fabs(v - double(hinge.high)) < kEdge) continue;
+			const bool acts = hinge.limit && (v < hinge.low || v > hinge.high);
+			EXPECT_EQ(acts, ownActs) << kind.name << " lo " << lo << " hi " << hi << " v " << v;
+			if (acts && ownActs)
+			{
+				EXPECT_EQ(v < hinge.low, ownLower) << kind.name << " lo " << lo << " hi " << hi;
+			}
+			acting += acts;
+			free += !hinge.limit;
+			++compared;
+		}
+	EXPECT_GT(acting, 100);
+	EXPECT_GT(free, 100);
+	EXPECT_GT(compared, 1000);
+}
+
+TEST(StabilizerStock, LimitMeaningsOfAStockHinge)
+{
+	btBoxShape shape(btVector3(btScalar(0.2), btScalar(0.1), btScalar(0.1)));
+	btRigidBody a(1, nullptr, &shape), b(1, nullptr, &shape);
+	btHingeConstraint h(a, b, btTransform::getIdentity(), btTransform::getIdentity(), false);
+	FrameHinge hinge;
+	bool limit = true;
+	h.setLimit(1, -1);  // low > high: free
+	readFrameHinge(h, true, true, &hinge, &limit);
+	EXPECT_FALSE(limit);
+	h.setLimit(-4, 4);  // a range of 2π or more never acts (its ends wrap to 2.28 > −2.28)
+	readFrameHinge(h, true, true, &hinge, &limit);
+	EXPECT_FALSE(limit);
+	h.setLimit(btScalar(-kPi), btScalar(kPi));
+	readFrameHinge(h, true, true, &hinge, &limit);
+	EXPECT_FALSE(limit);
+	h.setLimit(btScalar(0.5), btScalar(0.5));  // a zero range locks (btAngularLimit::test: h ≥ 0)
+	readFrameHinge(h, true, true, &hinge, &limit);
+	EXPECT_TRUE(limit);
+	EXPECT_EQ(hinge.low, 0);
+	h.setLimit(btScalar(2.5), btScalar(3.8));  // across π: the stops are 0.65 rad either side of 3.15
+	readFrameHinge(h, true, true, &hinge, &limit);
+	EXPECT_TRUE(limit);
+	EXPECT_NEAR(double(hinge.high), 0.65, 1e-6);
+	// a 6-dof's whole turn never acts; reversed limits are free; a locked pair that is not at 0 is no hinge
+	auto d = std::unique_ptr<btGeneric6DofSpring2Constraint>(dofHinge(a, b, btTransform::getIdentity(),
+																	  btTransform::getIdentity(), 2, RO_XYZ,
+																	  btScalar(-kPi), btScalar(kPi)));
+	EXPECT_EQ(readFrameHinge(*d, true, true, &hinge, &limit), FrameHingeKind::Dof);
+	EXPECT_FALSE(limit);
+	d->setAngularLowerLimit(btVector3(0, btScalar(0.1), 1));
+	d->setAngularUpperLimit(btVector3(0, btScalar(0.1), -1));
+	EXPECT_EQ(readFrameHinge(*d, true, true, &hinge, &limit), FrameHingeKind::None);
+	d->setAngularLowerLimit(btVector3(0, 1, 1));  // two free axes: a universal joint
+	d->setAngularUpperLimit(btVector3(0, -1, -1));
+	EXPECT_EQ(readFrameHinge(*d, true, true, &hinge, &limit), FrameHingeKind::None);
+	EXPECT_EQ(readFrameHinge(h, false, true, &hinge, &limit), FrameHingeKind::None);  // kinds not asked for
+}
+
+namespace
+{
+// A 3-D chain of n links (0.5 m along x, released horizontally at 10 m), joint i's axis z or y alternately, every
+// other joint limited to [−0.6, 0.6] rad on the joint's own angle, built with `kind`; the first to the world.
+struct KindChain
+{
+	StabilizerScene scene;
+	std::vector<btTypedConstraint*> joints;
+	std::vector<int> axes;
+	KindChain(const Kind& kind, int n)
+	{
+		btRigidBody* previous = scene.box(btVector3(btScalar(0.05), btScalar(0.05), btScalar(0.05)), 0, btVector3(0, 10, 0));
+		for (int i = 0; i < n; ++i)
+		{
+			btRigidBody* link = scene.box(btVector3(btScalar(0.25), btScalar(0.05), btScalar(0.05)), 1,
+										  btVector3(btScalar(0.5 * i + 0.25), 10, 0));
+			const btVector3 w = i % 2 ? btVector3(0, 1, 0) : btVector3(0, 0, 1);
+			const btMatrix3x3 basis = basisWithAxis(kind.axis, w);
+			const btVector3 pivot(btScalar(0.5 * i), 10, 0);
+			const btTransform frame(basis, pivot);
+			const btTransform fa = previous->getCenterOfMassTransform().inverse() * frame;
+			const btTransform fb = link->getCenterOfMassTransform().inverse() * frame;
+			const bool limited = i % 2 == 1;
+			btTypedConstraint* c = kind.make(*previous, *link, fa, fb, limited ? btScalar(-0.6) : 1,
+											 limited ? btScalar(0.6) : -1);
+			scene.addConstraint(c);
+			joints.push_back(c);
+			axes.push_back(kind.axis);
+			previous = link;
+		}
+	}
+	// The largest separation (m), misalignment (rad) and overshoot past a stop (rad, the joint's own angle) over
+	// `steps` steps, measured from the frames here (not through StockHingeRows.h).
+	void run(int steps, double& separation, double& misalignment, double& overshoot)
+	{
+		separation = misalignment = overshoot = 0;
+		for (int s = 0; s < steps; ++s)
+		{
+			scene.world().stepSimulation(kTimeStep, 0);
+			for (size_t j = 0; j < joints.size(); ++j)
+			{
+				btTypedConstraint& c = *joints[j];
+				btTransform fa, fb;
+				btScalar lo = 1, hi = -1, angle = 0;
+				const btTransform tA = c.getRigidBodyA().getCenterOfMassTransform();
+				const btTransform tB = c.getRigidBodyB().getCenterOfMassTransform();
+				if (c.getConstraintType() == HINGE_CONSTRAINT_TYPE)
+				{
+					auto& h = static_cast<btHingeConstraint&>(c);
+					fa = h.getAFrame();
+					fb = h.getBFrame();
+					if (h.hasLimit()) lo = h.getLowerLimit(), hi = h.getUpperLimit();
+					angle = h.getHingeAngle(tA, tB);
+				}
+				else
+				{
+					btVector3 low, high;
+					if (c.getConstraintType() == D6_SPRING_2_CONSTRAINT_TYPE)
+					{
+						auto& d = static_cast<btGeneric6DofSpring2Constraint&>(c);
+						fa = d.getFrameOffsetA();
+						fb = d.getFrameOffsetB();
+						d.getAngularLowerLimit(low);
+						d.getAngularUpperLimit(high);
+						d.calculateTransforms(tA, tB);
+						angle = d.getAngle(axes[j]);
+					}
+					else
+					{
+						auto& d = static_cast<btGeneric6DofConstraint&>(c);
+						fa = d.getFrameOffsetA();
+						fb = d.getFrameOffsetB();
+						d.getAngularLowerLimit(low);
+						d.getAngularUpperLimit(high);
+						d.calculateTransforms(tA, tB);
+						angle = d.getAngle(axes[j]);
+					}
+					lo = low[axes[j]];
+					hi = high[axes[j]];
+				}
+				const btTransform a = tA * fa, b = tB * fb;
+				separation = std::max(separation, double((b.getOrigin() - a.getOrigin()).length()));
+				const btVector3 za = a.getBasis().getColumn(axes[j]), zb = b.getBasis().getColumn(axes[j]);
+				misalignment = std::max(misalignment, double(btAtan2(za.cross(zb).length(), za.dot(zb))));
+				if (lo <= hi) overshoot = std::max(overshoot, std::max(double(lo - angle), double(angle - hi)));
+			}
+		}
+	}
+};
+}  // namespace
+
+TEST(StabilizerStock, ChainsOfEveryKindAreHeldAndTheirLimitsKept)
+{
+	// A 10-link chain of each kind (stock; 6dof2 about x, y, z in two rotation orders; the old 6-dof), 2 s: with the
+	// stabilizer's defaults every joint within the targets, without it parted by more than a millimetre.
+	std::vector<Kind> all = kinds();
+	std::vector<Kind> picked;
+	for (const Kind& k : all)
+		if (k.name == "stock" || k.name.rfind("6dof2 order 0", 0) == 0 || k.name.rfind("6dof2 order 5", 0) == 0 ||
+			k.name == "6dof axis 2")
+			picked.push_back(k);
+	for (const Kind& kind : picked)
+	{
+		double separation, misalignment, overshoot;
+		{
+			KindChain bare(kind, 10);
+			bare.run(120, separation, misalignment, overshoot);
+			EXPECT_GT(separation, kUnheldSeparation) << kind.name;
+		}
+		KindChain chain(kind, 10);
+		btQuaternionHingeStabilizer stabilizer;
+		chain.scene.addAction(&stabilizer);
+		chain.run(120, separation, misalignment, overshoot);
+		EXPECT_LE(separation, kDouble ? kSeparationTolerance : kHeldSeparation) << kind.name;
+		EXPECT_LE(misalignment, kHeldMisalignment) << kind.name;
+		EXPECT_LE(overshoot, kHeldOvershoot) << kind.name;
+		const btQuaternionHingeStabilizerStats& stats = stabilizer.getLastStats();
+		EXPECT_EQ(stats.joints, 10);
+		EXPECT_EQ(kind.name == "stock" ? stats.stockHinges : stats.dofHinges, 10) << kind.name;
+		chain.scene.world().removeAction(&stabilizer);
+	}
+}
+
+namespace
+{
+// A mixed world: a stock hinge with a limit and its motor, a 6dof2 hinge about x with a motor, an old 6-dof hinge,
+// a quaternion hinge and a point-to-point, in one chain from the world.
+struct MixedChain
+{
+	StabilizerScene scene;
+	btHingeConstraint* stock;
+	btGeneric6DofSpring2Constraint* dof2;
+	btGeneric6DofConstraint* dof;
+	MixedChain()
+	{
+		std::vector<btRigidBody*> links;
+		for (int i = 0; i < 5; ++i)
+			links.push_back(scene.box(btVector3(btScalar(0.25), btScalar(0.05), btScalar(0.05)), 1,
+									  btVector3(btScalar(0.5 * i + 0.25), 10, 0)));
+		btRigidBody* ground = scene.box(btVector3(btScalar(0.05), btScalar(0.05), btScalar(0.05)), 0, btVector3(0, 10, 0));
+		auto frames = [&](btRigidBody& a, btRigidBody& b, int axis, const btVector3& w, btTransform& fa, btTransform& fb) {
+			const btVector3 pivot = b.getCenterOfMassPosition() - btVector3(btScalar(0.25), 0, 0);
+			const btTransform frame(basisWithAxis(axis, w), pivot);
+			fa = a.getCenterOfMassTransform().inverse() * frame;
+			fb = b.getCenterOfMassTransform().inverse() * frame;
+		};
+		btTransform fa, fb;
+		frames(*ground, *links[0], 2, btVector3(0, 0, 1), fa, fb);
+		stock = new btHingeConstraint(*ground, *links[0], fa, fb, false);
+		stock->setLimit(btScalar(-0.8), btScalar(0.8));
+		stock->enableAngularMotor(true, 1, btScalar(0.05));
+		scene.addConstraint(stock);
+		frames(*links[0], *links[1], 0, btVector3(0, 1, 0), fa, fb);
+		dof2 = dofHinge(*links[0], *links[1], fa, fb, 0, RO_ZYX, 1, -1);
+		dof2->enableMotor(0, true);
+		dof2->setTargetVelocity(0, btScalar(0.5));
+		dof2->setMaxMotorForce(0, 2);
+		scene.addConstraint(dof2);
+		frames(*links[1], *links[2], 1, btVector3(0, 0, 1), fa, fb);
+		dof = oldDofHinge(*links[1], *links[2], fa, fb, 1, btScalar(-1), btScalar(1));
+		scene.addConstraint(dof);
+		scene.hinge(*links[2], *links[3], btVector3(btScalar(0.25), 0, 0), btVector3(btScalar(-0.25), 0, 0),
+					btVector3(0, 1, 0), btVector3(0, 1, 0));
+		scene.addConstraint(new btPoint2PointConstraint(*links[3], *links[4], btVector3(btScalar(0.25), 0, 0),
+														btVector3(btScalar(-0.25), 0, 0)));
+	}
+	std::vector<btScalar> state()
+	{
+		std::vector<btScalar> s;
+		const btCollisionObjectArray& objects = scene.world().getCollisionObjectArray();
+		for (int i = 0; i < objects.size(); ++i)
+		{
+			const btRigidBody* b = btRigidBody::upcast(objects[i]);
+			const btTransform& t = b->getCenterOfMassTransform();
+			for (int r = 0; r < 3; ++r)
+				for (int k = 0; k < 3; ++k) s.push_back(t.getBasis()[r][k]);
+			for (int k = 0; k < 3; ++k)
+			{
+				s.push_back(t.getOrigin()[k]);
+				s.push_back(b->getLinearVelocity()[k]);
+				s.push_back(b->getAngularVelocity()[k]);
+			}
+		}
+		return s;
+	}
+};
+
+struct RejectAll : btQuaternionHingeStabilizerFilter
+{
+	bool needsStabilization(const btTypedConstraint&) const override { return false; }
+};
+struct RejectStock : btQuaternionHingeStabilizerFilter
+{
+	bool needsStabilization(const btTypedConstraint& c) const override
+	{
+		return c.getConstraintType() != HINGE_CONSTRAINT_TYPE;
+	}
+};
+}  // namespace
+
+TEST(StabilizerStock, WorldWhoseJointsAreFilteredOutStepsBitForBitAsWithoutTheStabilizer)
+{
+	// The solver's rows of these joints are untouched: only the action moves bodies. The same world stepped 2 s bare,
+	// with the stabilizer filtering every joint out, and with every kind turned off in its settings: the same bits.
+	MixedChain bare, filtered, off;
+	btQuaternionHingeStabilizer rejecting;
+	RejectAll none;
+	rejecting.setFilter(&none);
+	filtered.scene.addAction(&rejecting);
+	btQuaternionHingeStabilizerSettings settings;
+	settings.projectStockHinges = settings.projectDofHinges = false;
+	btQuaternionHingeStabilizer kindsOff(settings);
+	off.scene.addAction(&kindsOff);
+	// and the quaternion hinge of `off` filtered out (the point constraint is not seen without its option)
+	struct OnlyStock : btQuaternionHingeStabilizerFilter
+	{
+		bool needsStabilization(const btTypedConstraint& c) const override
+		{
+			return c.getConstraintType() == HINGE_CONSTRAINT_TYPE;
+		}
+	} onlyStock;
+	kindsOff.setFilter(&onlyStock);
+	for (int s = 0; s < 120; ++s)
+	{
+		bare.scene.world().stepSimulation(kTimeStep, 0);
+		filtered.scene.world().stepSimulation(kTimeStep, 0);
+		off.scene.world().stepSimulation(kTimeStep, 0);
+	}
+	const std::vector<btScalar> a = bare.state(), b = filtered.state(), c = off.state();
+	ASSERT_EQ(a.size(), b.size());
+	EXPECT_EQ(std::memcmp(a.data(), b.data(), a.size() * sizeof(btScalar)), 0);
+	EXPECT_EQ(std::memcmp(a.data(), c.data(), a.size() * sizeof(btScalar)), 0);
+	EXPECT_EQ(rejecting.getLastStats().joints, 0);
+	EXPECT_EQ(rejecting.getLastStats().filteredJoints, 4);  // stock, 6dof2, 6-dof and quaternion hinges
+	EXPECT_EQ(kindsOff.getLastStats().joints, 0);
+	EXPECT_EQ(kindsOff.getLastStats().filteredJoints, 1);  // the quaternion hinge; the kinds turned off are not seen
+	filtered.scene.world().removeAction(&rejecting);
+	off.scene.world().removeAction(&kindsOff);
+}
+
+TEST(StabilizerStock, FilterAndStatsSeeEveryKind)
+{
+	MixedChain chain;
+	btQuaternionHingeStabilizerSettings settings;
+	settings.projectPointConstraints = true;
+	btQuaternionHingeStabilizer stabilizer(settings);
+	chain.scene.addAction(&stabilizer);
+	chain.scene.world().stepSimulation(kTimeStep, 0);
+	const btQuaternionHingeStabilizerStats& all = stabilizer.getLastStats();
+	EXPECT_EQ(all.joints, 5);
+	EXPECT_EQ(all.quaternionHinges, 1);
+	EXPECT_EQ(all.stockHinges, 1);
+	EXPECT_EQ(all.dofHinges, 2);
+	EXPECT_EQ(all.pointConstraints, 1);
+	EXPECT_EQ(all.lockedConstraints, 0);
+	EXPECT_EQ(all.islands, 1);
+	RejectStock rejectStock;
+	stabilizer.setFilter(&rejectStock);
+	chain.scene.world().stepSimulation(kTimeStep, 0);
+	EXPECT_EQ(stabilizer.getLastStats().stockHinges, 0);
+	EXPECT_EQ(stabilizer.getLastStats().filteredJoints, 1);
+	EXPECT_EQ(stabilizer.getLastStats().joints, 4);
+	stabilizer.setFilter(nullptr);
+	settings.projectDofHinges = false;  // the 6-dofs: not seen (neither hinges nor, set up as hinges, points)
+	stabilizer.setSettings(settings);
+	chain.scene.world().stepSimulation(kTimeStep, 0);
+	EXPECT_EQ(stabilizer.getLastStats().dofHinges, 0);
+	// the 6dof2 hinge is a point constraint then (projectPointConstraints takes btGeneric6DofSpring2Constraint only)
+	EXPECT_EQ(stabilizer.getLastStats().pointConstraints, 2);
+	EXPECT_EQ(stabilizer.getLastStats().stockHinges, 1);
+	chain.scene.world().removeAction(&stabilizer);
+}
+
+#ifdef QUATHINGE_HAVE_WORLD_IMPORTER
+TEST(StabilizerStock, SpiderBulletIsHeldAsLoaded)
+{
+	// spider.bullet as a Bullet app loads it (24 btHingeConstraints with limits and motors), the stabilizer added and
+	// nothing swapped, 5 s at 60 Hz, 10 iterations: every hinge within the targets; without it, parted.
+	const char* dir = std::getenv("QUATHINGE_MODELS_DIR");
+	const std::string file = std::string(dir && *dir ? dir : QUATHINGE_TEST_MODELS_DIR) + "/spider.bullet";
+	double worst[2][3];  // without, with: separation (m), misalignment (rad), overshoot (rad)
+	for (int withStabilizer = 0; withStabilizer < 2; ++withStabilizer)
+	{
+		World world;
+		btBulletWorldImporter importer(&world.world());
+		ASSERT_TRUE(importer.loadFile(file.c_str())) << file;
+		btQuaternionHingeStabilizer stabilizer;
+		if (withStabilizer) world.world().addAction(&stabilizer);
+		std::vector<btHingeConstraint*> hinges;
+		for (int i = 0; i < world.world().getNumConstraints(); ++i)
+			if (world.world().getConstraint(i)->getConstraintType() == HINGE_CONSTRAINT_TYPE)
+				hinges.push_back(static_cast<btHingeConstraint*>(world.world().getConstraint(i)));
+		ASSERT_EQ(hinges.size(), 24u);
+		for (int i = 0; i < world.world().getNumCollisionObjects(); ++i)
+			world.world().getCollisionObjectArray()[i]->setActivationState(DISABLE_DEACTIVATION);
+		double* w = worst[withStabilizer];
+		w[0] = w[1] = w[2] = 0;
+		for (int s = 0; s < 300; ++s)
+		{
+			world.step();
+			for (btHingeConstraint* h : hinges)
+			{
+				const btTransform tA = h->getRigidBodyA().getCenterOfMassTransform();
+				const btTransform tB = h->getRigidBodyB().getCenterOfMassTransform();
+				const btTransform a = tA * h->getAFrame(), b = tB * h->getBFrame();
+				w[0] = std::max(w[0], double((b.getOrigin() - a.getOrigin()).length()));
+				const btVector3 za = a.getBasis().getColumn(2), zb = b.getBasis().getColumn(2);
+				w[1] = std::max(w[1], double(btAtan2(za.cross(zb).length(), za.dot(zb))));
+				if (h->hasLimit() && h->getLowerLimit() < h->getUpperLimit())
+				{
+					const double angle = double(h->getHingeAngle(tA, tB));
+					w[2] = std::max(w[2], std::max(double(h->getLowerLimit()) - angle, angle - double(h->getUpperLimit())));
+				}
+			}
+		}
+		if (withStabilizer)
+		{
+			EXPECT_EQ(stabilizer.getLastStats().stockHinges, 24);
+			world.world().removeAction(&stabilizer);
+		}
+		importer.deleteAllData();  // the importer's hinges, bodies and shapes, out of the world
+	}
+	EXPECT_GT(worst[0][0], kUnheldSeparation);
+	EXPECT_LE(worst[1][0], kDouble ? kSeparationTolerance : kHeldSeparation);
+	EXPECT_LE(worst[1][1], kHeldMisalignment);
+	EXPECT_LE(worst[1][2], kHeldOvershoot);
+	std::printf("spider.bullet, 5 s: without the stabilizer %.3g m, %.3g rad, %.3g rad past a stop; with it %.3g m, "
+				"%.3g rad, %.3g rad\n",
+				worst[0][0], worst[0][1], worst[0][2], worst[1][0], worst[1][1], worst[1][2]);
+}
+#endif  // QUATHINGE_HAVE_WORLD_IMPORTER
+
+#endif  // QUATHINGE_HAVE_STABILIZER
