@@ -65,7 +65,7 @@ bool readStock(const btHingeConstraint& hinge, FrameHinge* out, bool* limit)
 
 // The 6-dof's angle of axis `axis` for a relative rotation about that axis alone: +θ or −θ (btGetMatrixElem reads the
 // matrix transposed in some of its Euler forms, not in others), read off its own Euler function for its order.
-btScalar dofAngleSign(int order, int axis)
+btScalar eulerSign(int order, int axis)
 {
 	btVector3 turn(0, 0, 0);
 	turn[axis] = 1;
@@ -81,6 +81,22 @@ btScalar dofAngleSign(int order, int axis)
 		default: btGeneric6DofSpring2Constraint::matrixToEulerXYZ(rotation, euler); break;  // btGeneric6DofConstraint's
 	}
 	return euler[axis] < 0 ? btScalar(-1) : btScalar(1);
+}
+
+// eulerSign for every order and axis, computed once (read every step for every 6-dof hinge).
+btScalar dofAngleSign(int order, int axis)
+{
+	struct Table
+	{
+		btScalar sign[RO_ZYX + 1][3];
+		Table()
+		{
+			for (int o = RO_XYZ; o <= RO_ZYX; ++o)
+				for (int a = 0; a < 3; ++a) sign[o][a] = eulerSign(o, a);
+		}
+	};
+	static const Table table;
+	return table.sign[order >= RO_XYZ && order <= RO_ZYX ? order : RO_XYZ][axis];
 }
 
 struct DofLimits
