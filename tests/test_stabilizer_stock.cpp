@@ -117,7 +117,7 @@ TEST(StabilizerStock, LimitVariableIsTheJointsOwnAngleAndActsWhereItsTestActs)
 			bool limit = false;
 			ASSERT_NE(readFrameHinge(*c, true, true, &hinge, &limit), FrameHingeKind::None);
 			ASSERT_EQ(limit, hinge.limit);
-			const double v = double(frameHingeLimitVariable(hinge, tA, tB));
+			const double v = double(frameHingeLimitVariable(*c, hinge, tA, tB));
 			bool ownActs, ownLower;
 			double ownPosition = v;
 			if (kind.name == "stock")

@@ -325,8 +325,8 @@ void readAngleReferences(Island& island)
 			// its frames and limit as they are now (the kind and the limit's ability to act are in the signature)
 			readFrameHinge(*js.frameHinge, true, true, &js.hinge);
 			if (!js.limitSlot) continue;
-			js.angleReference = frameHingeLimitVariable(js.hinge, js.rigid[0]->getCenterOfMassTransform(),
-														js.rigid[1]->getCenterOfMassTransform());
+			const btTransform& tA = js.rigid[0]->getCenterOfMassTransform();
+			js.angleReference = frameHingeLimitVariable(*js.frameHinge, js.hinge, tA, js.rigid[1]->getCenterOfMassTransform());
 			js.lowerStop = js.hinge.low;
 			js.upperStop = js.hinge.high;
 			continue;

@@ -211,15 +211,22 @@ int frameHingePositionRows(const FrameHinge& hinge, const btTransform& transA, c
 	return rows;
 }
 
-btScalar frameHingeLimitVariable(const FrameHinge& hinge, const btTransform& transA, const btTransform& transB)
+btScalar frameHingeLimitVariable(const btTypedConstraint& c, const FrameHinge& hinge, const btTransform& transA,
+								 const btTransform& transB)
 {
-	btScalar c[5], jacobian[60], theta;
+	if (!hinge.adjustToLimits)
+	{
+		// a stock hinge: its own angle (btHingeConstraint::getHingeAngle, a computation that changes nothing; sign·θ
+		// on the hinge, and cheaper than the rows), wrapped about the centre as btAngularLimit::test wraps it
+		auto& stock = const_cast<btHingeConstraint&>(static_cast<const btHingeConstraint&>(c));
+		return btNormalizeAngle(stock.getHingeAngle(transA, transB) - hinge.center);
+	}
+	btScalar C[5], jacobian[60], theta;
 	btVector3 gradient;
 	btQuaternionHingeConstraint::computeFramePositionRows(hinge.frameA, hinge.frameB, hinge.angularOnly, transA, transB,
-														  c, jacobian, 0, theta, gradient);
-	const btScalar own = hinge.sign * theta;  // θ ∈ (−π, π] continued from 0: wrapped
-	if (hinge.adjustToLimits) return btAdjustAngleToLimits(own, hinge.low, hinge.high);
-	return btNormalizeAngle(own - hinge.center);
+														  C, jacobian, 0, theta, gradient);
+	// θ ∈ (−π, π] continued from 0: wrapped; on the branch of the nearer stop, as the 6-dof tests it
+	return btAdjustAngleToLimits(hinge.sign * theta, hinge.low, hinge.high);
 }
 }  // namespace stabilizer
 }  // namespace quathinge

@@ -63,8 +63,10 @@ FrameHingeKind readFrameHinge(const btTypedConstraint& c, bool stockHinges, bool
 int frameHingePositionRows(const FrameHinge& hinge, const btTransform& transA, const btTransform& transB, btScalar* C,
 						   btScalar* jacobian, btScalar previous, btScalar& variable, btVector3& gradient);
 
-/// v at the given transforms as the joint tests its limit (wrapped, or adjusted to the nearer stop): the step's first.
-btScalar frameHingeLimitVariable(const FrameHinge& hinge, const btTransform& transA, const btTransform& transB);
+/// v at the given transforms as the joint `c` tests its limit (wrapped about the centre, or adjusted to the nearer
+/// stop): the step's first.
+btScalar frameHingeLimitVariable(const btTypedConstraint& c, const FrameHinge& hinge, const btTransform& transA,
+								 const btTransform& transB);
 }  // namespace stabilizer
 }  // namespace quathinge
 
