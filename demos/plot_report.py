@@ -32,6 +32,8 @@ KIND_STYLE = {
     "quaternion": ("tab:blue", "^"),
     "quaternion+stab": ("tab:green", "D"),
     "multibody": ("tab:purple", "v"),
+    "stock+stab": ("tab:brown", "P"),
+    "6dof2+stab": ("tab:olive", "X"),
 }
 
 

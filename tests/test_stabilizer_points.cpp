@@ -100,7 +100,11 @@ TEST(StabilizerPoints, MixedChainHoldsAtEveryJointWithTheOptionAndOnlyAtItsHinge
 	MixedChain on, off;
 	btQuaternionHingeStabilizerSettings settings;
 	settings.projectPointConstraints = true;
-	btQuaternionHingeStabilizer withPoints(settings), hingesOnly;
+	// (the 6-dof hinge is projected as a hinge by default, projectDofHinges: tests/test_stabilizer_stock.cpp; the
+	// stabilizer without the option here sees the quaternion hinges alone)
+	btQuaternionHingeStabilizerSettings quaternionOnly;
+	quaternionOnly.projectDofHinges = false;
+	btQuaternionHingeStabilizer withPoints(settings), hingesOnly(quaternionOnly);
 	on.scene.addAction(&withPoints);
 	off.scene.addAction(&hingesOnly);
 	double onHinge, onPoint, offHinge, offPoint;
@@ -306,7 +310,11 @@ TEST(StabilizerPoints, SixDofWithItsLinearAxesLockedIsAPointConstraint)
 	build(off, dofsOff);
 	btQuaternionHingeStabilizerSettings settings;
 	settings.projectPointConstraints = true;
-	btQuaternionHingeStabilizer withPoints(settings), hingesOnly;
+	// (the 6-dof hinge is projected as a hinge by default, projectDofHinges: tests/test_stabilizer_stock.cpp; the
+	// stabilizer without the option here sees the quaternion hinges alone)
+	btQuaternionHingeStabilizerSettings quaternionOnly;
+	quaternionOnly.projectDofHinges = false;
+	btQuaternionHingeStabilizer withPoints(settings), hingesOnly(quaternionOnly);
 	on.addAction(&withPoints);
 	off.addAction(&hingesOnly);
 	double worstOn = 0, worstOff = 0, hingeOn = 0;
@@ -323,6 +331,8 @@ TEST(StabilizerPoints, SixDofWithItsLinearAxesLockedIsAPointConstraint)
 	std::printf("[ figures  ] 6-dof points, largest separation (m): option on %.2e (hinges %.2e); off %.2e\n", worstOn,
 				hingeOn, worstOff);
 	EXPECT_EQ(withPoints.getLastStats().joints, 4);  // two hinges, two 6-dofs; not the weld
+	EXPECT_EQ(withPoints.getLastStats().pointConstraints, 1);  // the ball; the 6-dof hinge is a hinge
+	EXPECT_EQ(withPoints.getLastStats().dofHinges, 1);
 	EXPECT_EQ(withPoints.getLastStats().islands, 1);
 	EXPECT_EQ(hingesOnly.getLastStats().joints, 2);
 	EXPECT_LE(worstOn, kSeparationTolerance);

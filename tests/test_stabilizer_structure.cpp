@@ -294,11 +294,14 @@ TEST(Stabilizer, PositionRowsHaveThePointStructureTheAssemblyUses)
 
 TEST(Stabilizer, WorldWithoutQuaternionHingesIsANoOp)
 {
-	// A world with no quaternion hinge (only a stock hinge) is left exactly as the solver left it.
+	// A world with no quaternion hinge (only a stock hinge, stock hinges not asked for: projectStockHinges off;
+	// tests/test_stabilizer_stock.cpp for them) is left exactly as the solver left it.
 	StabilizerScene scene;
 	btRigidBody* bar = scene.box(btVector3(0.5, 0.05, 0.05), 1, btVector3(0.5, 5, 0));
 	scene.addConstraint(new btHingeConstraint(*bar, btVector3(-0.5, 0, 0), btVector3(0, 0, 1)));
-	btQuaternionHingeStabilizer stabilizer;
+	btQuaternionHingeStabilizerSettings settings;
+	settings.projectStockHinges = false;
+	btQuaternionHingeStabilizer stabilizer(settings);
 	scene.addAction(&stabilizer);
 	scene.world().stepSimulation(kTimeStep, 0);
 	const btQuaternionHingeStabilizerStats& s = stabilizer.getLastStats();
@@ -343,9 +346,11 @@ TEST(Stabilizer, AConstraintMadeAtAnOldOnesAddressIsSeenForWhatItIs)
 {
 	// The stabilizer keeps which of the world's constraints are quaternion hinges. A stock hinge removed, destroyed
 	// and replaced by a quaternion hinge at the same address and index must be projected; and the other way round,
-	// the stock hinge that takes a quaternion hinge's place must not be.
+	// the stock hinge that takes a quaternion hinge's place must not be (stock hinges not asked for).
 	StabilizerScene scene;
-	btQuaternionHingeStabilizer stabilizer;
+	btQuaternionHingeStabilizerSettings settings;
+	settings.projectStockHinges = false;
+	btQuaternionHingeStabilizer stabilizer(settings);
 	btRigidBody* link = scene.box(btVector3(btScalar(0.05), btScalar(0.25), btScalar(0.05)), 1, btVector3(0, -1, 0));
 	const btVector3 pivot(0, btScalar(0.25), 0), axis(0, 0, 1);
 	alignas(16) static unsigned char storage[sizeof(btHingeConstraint) > sizeof(btQuaternionHingeConstraint)

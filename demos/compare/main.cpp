@@ -103,7 +103,7 @@ int main(int argc, char** argv)
 	std::string referenceExe, dumpReference;
 	int dumpSteps = 0;
 	app.add_option("-s,--scenes", scenes, "scene names (--list shows them), or URDF paths")->capture_default_str();
-	app.add_option("-k,--kinds", kinds, "joint kinds: stock 6dof2 quaternion quaternion+stab multibody")->capture_default_str();
+	app.add_option("-k,--kinds", kinds, "joint kinds: stock 6dof2 quaternion quaternion+stab multibody stock+stab 6dof2+stab")->capture_default_str();
 	app.add_option("--dt", dt, "time step (s)")->capture_default_str()->check(CLI::PositiveNumber);
 	app.add_option("-i,--iterations", iterations, "solver iterations")->capture_default_str()->check(CLI::PositiveNumber);
 	app.add_option("-d,--duration", duration, "simulated seconds (default: each scene's own)");

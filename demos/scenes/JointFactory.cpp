@@ -1,6 +1,6 @@
 // The maximal-coordinate joint kinds (JointFactory.h): stock btHingeConstraint, btGeneric6DofSpring2Constraint set
-// up as a hinge, btQuaternionHingeConstraint, and the quaternion hinge with btQuaternionHingeStabilizer added to the
-// world. Angles are θ throughout (SceneSpec.h): each factory maps θ to its constraint's own angle.
+// up as a hinge, btQuaternionHingeConstraint, and each of the three hinges with btQuaternionHingeStabilizer added to
+// the world. Angles are θ throughout (SceneSpec.h): each factory maps θ to its constraint's own angle.
 #include "JointFactory.h"
 
 #include "quathinge/btQuaternionHingeConstraint.h"
@@ -148,6 +148,17 @@ private:
 	}
 };
 
+// A kind with btQuaternionHingeStabilizer added to the world as it is: its defaults hold the stock and 6-dof hinges.
+template <class Base>
+class Stabilized : public Base
+{
+public:
+	std::unique_ptr<btActionInterface> makeAction() const override
+	{
+		return std::unique_ptr<btActionInterface>(new btQuaternionHingeStabilizer);
+	}
+};
+
 class QuaternionFactory : public JointFactory
 {
 public:
@@ -209,6 +220,8 @@ const JointFactory* jointFactory(Kind kind)
 	static const QuaternionFactory quaternion;
 	static const StabilizedQuaternionFactory stabilized(false);
 	static const StabilizedQuaternionFactory stabilizedEnergy(true);
+	static const Stabilized<StockFactory> stockStabilized;
+	static const Stabilized<Generic6Dof2Factory> generic6Dof2Stabilized;
 	switch (kind)
 	{
 		case Kind::Stock: return &stock;
@@ -217,6 +230,8 @@ const JointFactory* jointFactory(Kind kind)
 		case Kind::QuaternionStabilized: return &stabilized;
 		case Kind::QuaternionStabilizedEnergy: return &stabilizedEnergy;
 		case Kind::MultiBody: return nullptr;
+		case Kind::StockStabilized: return &stockStabilized;
+		case Kind::Generic6Dof2Stabilized: return &generic6Dof2Stabilized;
 	}
 	return nullptr;
 }

@@ -10,7 +10,8 @@ namespace scenes
 {
 std::vector<Kind> allKinds()
 {
-	return {Kind::Stock, Kind::Generic6Dof2, Kind::Quaternion, Kind::QuaternionStabilized, Kind::MultiBody};
+	return {Kind::Stock,	 Kind::Generic6Dof2,	Kind::Quaternion,			 Kind::QuaternionStabilized,
+			Kind::MultiBody, Kind::StockStabilized, Kind::Generic6Dof2Stabilized};
 }
 
 std::string kindName(Kind kind)
@@ -23,6 +24,8 @@ std::string kindName(Kind kind)
 		case Kind::QuaternionStabilized: return "quaternion+stab";
 		case Kind::MultiBody: return "multibody";
 		case Kind::QuaternionStabilizedEnergy: return "quaternion+stab+energy";
+		case Kind::StockStabilized: return "stock+stab";
+		case Kind::Generic6Dof2Stabilized: return "6dof2+stab";
 	}
 	return "?";
 }
@@ -33,7 +36,8 @@ Kind parseKind(const std::string& name)
 		if (kindName(k) == name) return k;
 	if (name == kindName(Kind::QuaternionStabilizedEnergy)) return Kind::QuaternionStabilizedEnergy;
 	throw std::invalid_argument("parseKind: kind: unknown joint kind '" + name +
-								"' (stock, 6dof2, quaternion, quaternion+stab, multibody, quaternion+stab+energy)");
+								"' (stock, 6dof2, quaternion, quaternion+stab, multibody, stock+stab, 6dof2+stab, "
+								"quaternion+stab+energy)");
 }
 
 }  // namespace scenes

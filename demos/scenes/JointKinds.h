@@ -27,6 +27,8 @@ enum class Kind
 	/// QuaternionStabilized with the stabilizer's conserveEnergy option: for conservative scenes only (not among
 	/// allKinds(): the energy table of demos/make_report.sh asks for it by name)
 	QuaternionStabilizedEnergy,
+	StockStabilized,         ///< btHingeConstraint + btQuaternionHingeStabilizer (no class swapped)
+	Generic6Dof2Stabilized,  ///< the 6dof2 kind's joints + btQuaternionHingeStabilizer (no class swapped)
 };
 std::vector<Kind> allKinds();
 std::string kindName(Kind kind);

@@ -211,8 +211,13 @@ btScalar btQuaternionHingeConstraint::computeAngleRow(const btTransform& transA,
 
 btScalar btQuaternionHingeConstraint::angleRowAt(const Pose& pose, btScalar previousAngle, btVector3& gradient) const
 {
+	return frameAngleRowAt(pose, userSign(m_settings.useReferenceFrameA), previousAngle, gradient);
+}
+
+btScalar btQuaternionHingeConstraint::frameAngleRowAt(const Pose& pose, btScalar sigma, btScalar previousAngle,
+													  btVector3& gradient)
+{
 	// (Q11) α = σθ continued from the previous angle; α̇ = σ Ω·t with Ω = R_Aᵀ(ω_B − ω_A), so the world axis is σ R_A t
-	const btScalar sigma = userSign(m_settings.useReferenceFrameA);
 	storeLanes(gradient, timesTransposed(pose.axesA, hingeAngleGradient(pose.q)));
 	gradient *= sigma;
 	return continueAngle(previousAngle, sigma * hingeAngle(pose.q));

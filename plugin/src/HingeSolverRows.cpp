@@ -553,10 +553,29 @@ int btQuaternionHingeConstraint::computePositionRows(const btTransform& transA, 
 int btQuaternionHingeConstraint::positionRowsAt(const Pose& pose, const btTransform& transA, const btTransform& transB,
 												btScalar* C, btScalar* jacobian) const
 {
+	return framePositionRowsAt(pose, transA, transB, m_settings.angularOnly, C, jacobian);
+}
+
+int btQuaternionHingeConstraint::computeFramePositionRows(const btTransform& frameInA, const btTransform& frameInB,
+														  bool angularOnly, const btTransform& transA,
+														  const btTransform& transB, btScalar* C, btScalar* jacobian,
+														  btScalar previousAngle, btScalar& angle,
+														  btVector3& angleGradient)
+{
+	Pose pose;
+	framePoseAt(frameInA, frameInB, transA, transB, pose);
+	angle = frameAngleRowAt(pose, btScalar(1), previousAngle, angleGradient);
+	return framePositionRowsAt(pose, transA, transB, angularOnly, C, jacobian);
+}
+
+int btQuaternionHingeConstraint::framePositionRowsAt(const Pose& pose, const btTransform& transA,
+													 const btTransform& transB, bool angularOnly, btScalar* C,
+													 btScalar* jacobian)
+{
 	// The same equations as the solver's rows, unrotated: point rows along world x, y, z (row i: J1 = (−e_i, e_i × r_A),
 	// J2 = (e_i, r_B × e_i)), then the two quaternion rows (Q7, Q9; Q12 past 90°): J1 = (0, −g), J2 = (0, g).
 	int rows = 0;
-	if (!m_settings.angularOnly)
+	if (!angularOnly)
 	{
 		const btVector3 rA = pose.pivotA - transA.getOrigin();
 		const btVector3 rB = pose.pivotB - transB.getOrigin();

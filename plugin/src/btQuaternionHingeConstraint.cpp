@@ -268,17 +268,23 @@ inline void rotationToQuaternion(const btMatrix3x3& m, btQuaternion& q)
 
 void btQuaternionHingeConstraint::poseAt(const btTransform& transA, const btTransform& transB, Pose& pose) const
 {
+	framePoseAt(m_settings.frameInA, m_settings.frameInB, transA, transB, pose);
+}
+
+void btQuaternionHingeConstraint::framePoseAt(const btTransform& frameInA, const btTransform& frameInB,
+											  const btTransform& transA, const btTransform& transB, Pose& pose)
+{
 	// One matrix-to-quaternion conversion: q from R_Aᵀ R_B of the joint frames (the products with btTransform's bits,
 	// MatrixLanes.h). Body A's basis by columns serves both R_Aᵀ and the pivot, body B's the pivot.
 	const Lanes a0 = columnLanes(transA.getBasis(), 0), a1 = columnLanes(transA.getBasis(), 1),
 				a2 = columnLanes(transA.getBasis(), 2);
-	productTransposedRows(a0, a1, a2, m_settings.frameInA.getBasis(), pose.axesA);
-	storeLanes(pose.pivotA, transformedLanes(a0, a1, a2, transA.getOrigin(), m_settings.frameInA.getOrigin()));
+	productTransposedRows(a0, a1, a2, frameInA.getBasis(), pose.axesA);
+	storeLanes(pose.pivotA, transformedLanes(a0, a1, a2, transA.getOrigin(), frameInA.getOrigin()));
 	storeLanes(pose.pivotB, transformedLanes(columnLanes(transB.getBasis(), 0), columnLanes(transB.getBasis(), 1),
 											 columnLanes(transB.getBasis(), 2), transB.getOrigin(),
-											 m_settings.frameInB.getOrigin()));
+											 frameInB.getOrigin()));
 	btMatrix3x3 basisB, relative;
-	multiplyRows(transB.getBasis(), m_settings.frameInB.getBasis(), basisB);
+	multiplyRows(transB.getBasis(), frameInB.getBasis(), basisB);
 	multiplyRows(pose.axesA, basisB, relative);  // R_Aᵀ R_B
 	rotationToQuaternion(relative, pose.q);
 	pose.axialKnown = false;

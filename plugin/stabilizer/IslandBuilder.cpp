@@ -9,6 +9,7 @@
 #include "LockedRows.h"
 #include "PointRows.h"
 
+#include "BulletDynamics/ConstraintSolver/btHingeConstraint.h"
 #include "BulletDynamics/Dynamics/btDynamicsWorld.h"
 #include "BulletDynamics/Dynamics/btRigidBody.h"
 
@@ -26,9 +27,10 @@ bool isMovable(const btRigidBody& body)
 		   (body.getInvMass() > 0 || !body.getInvInertiaDiagLocal().isZero());
 }
 
-int scanWorld(btDynamicsWorld& world, bool projectLimits, bool projectPoints, bool projectLocked,
-			  const btQuaternionHingeStabilizerFilter* filter, UpcastCache& upcasts, Array<SignatureEntry>& out)
+int scanWorld(btDynamicsWorld& world, const ScanKinds& kinds, const btQuaternionHingeStabilizerFilter* filter,
+			  UpcastCache& upcasts, Array<SignatureEntry>& out)
 {
+	const bool projectLimits = kinds.limits, projectPoints = kinds.points, projectLocked = kinds.locked;
 	out.clear();
 	int filtered = 0;
 	const int n = world.getNumConstraints();
@@ -54,15 +56,22 @@ int scanWorld(btDynamicsWorld& world, bool projectLimits, bool projectPoints, bo
 			upcasts.hinges[size_t(i)] = hinge;
 		}
 		if (!c->isEnabled()) continue;
+		// a stock or 6-dof hinge first (a 6-dof hinge is a hinge, not a point constraint); its limit's ability to act
+		bool frameLimit = false;
+		const FrameHingeKind frameKind =
+			hinge ? FrameHingeKind::None
+				  : readFrameHinge(*c, kinds.stockHinges, kinds.dofHinges, nullptr, &frameLimit);
+		const bool frame = frameKind != FrameHingeKind::None;
 		// a 6-dof's locks, read once for both options (and not at all with both off)
-		const DofLocks locks = !hinge && (projectPoints || projectLocked) ? dofLocks(*c) : DofLocks();
-		const bool point = !hinge && projectPoints && hasPointRows(*c, locks);
-		const bool locked = !hinge && !point && projectLocked && hasLockedRows(locks);
-		if (!hinge && !point && !locked) continue;
+		const DofLocks locks = !hinge && !frame && (projectPoints || projectLocked) ? dofLocks(*c) : DofLocks();
+		const bool point = !hinge && !frame && projectPoints && hasPointRows(*c, locks);
+		const bool locked = !hinge && !frame && !point && projectLocked && hasLockedRows(locks);
+		if (!hinge && !frame && !point && !locked) continue;
 		SignatureEntry e;
 		e.joint = hinge;
 		e.point = point ? c : nullptr;
 		e.locked = locked ? c : nullptr;
+		e.frameHinge = frame ? c : nullptr;
 		e.body[0] = &c->getRigidBodyA();
 		e.body[1] = &c->getRigidBodyB();
 		e.flags = 0;
@@ -75,6 +84,14 @@ int scanWorld(btDynamicsWorld& world, bool projectLimits, bool projectPoints, bo
 		if (filter && !filter->needsStabilization(*c))
 		{
 			++filtered;
+			continue;
+		}
+		if (frame)
+		{
+			if (frameKind == FrameHingeKind::Dof) e.flags |= SignatureEntry::kDofHinge;
+			else if (static_cast<btHingeConstraint*>(c)->getAngularOnly()) e.flags |= SignatureEntry::kAngularOnly;
+			if (projectLimits && frameLimit) e.flags |= SignatureEntry::kLimitSlot;
+			out.push_back(e);
 			continue;
 		}
 		if (point || locked)
@@ -268,6 +285,8 @@ std::unique_ptr<Island> buildOne(const Array<SignatureEntry>& entries, bool forc
 		slot.joint = e.joint;
 		slot.point = e.point;
 		slot.locked = e.locked;
+		slot.frameHinge = e.frameHinge;
+		slot.dofHinge = (e.flags & SignatureEntry::kDofHinge) != 0;
 		slot.contact = -1;
 		slot.rigid[0] = e.body[0];
 		slot.rigid[1] = e.body[1];
@@ -299,7 +318,13 @@ std::unique_ptr<Island> buildOne(const Array<SignatureEntry>& entries, bool forc
 			slot.rows = slot.linearRows = island.blockRows;
 			island.generalLinear = true;
 		}
-		slot.angleReference = slot.angle = 0;
+		slot.angleReference = slot.angle = slot.lowerStop = slot.upperStop = 0;
+		const JointKindIndex kind = e.joint		 ? kQuaternionHinges
+									: e.point	 ? kPointConstraints
+									: e.locked	 ? kLockedConstraints
+									: e.frameHinge ? (slot.dofHinge ? kDofHinges : kStockHinges)
+												   : kJointKinds;  // a contact slot
+		if (kind != kJointKinds) ++island.jointsOfKind[kind];
 		slot.limitActive = slot.limitActiveInFactor = false;
 		slot.limitTouched = 0;
 		slot.linearThreshold = slot.angularThreshold = 0;

@@ -358,7 +358,23 @@ ProjectionResult projectBlocks(BlockIsland<R>& island, const ProjectionSettings&
 void readAngleReferences(Island& island)
 {
 	for (JointSlot& js : island.joints)
-		if (js.limitSlot) js.angleReference = js.joint->getMultiTurnAngle();
+	{
+		if (js.frameHinge)
+		{
+			// its frames and limit as they are now (the kind and the limit's ability to act are in the signature)
+			readFrameHinge(*js.frameHinge, true, true, &js.hinge);
+			if (!js.limitSlot) continue;
+			const btTransform& tA = js.rigid[0]->getCenterOfMassTransform();
+			js.angleReference = frameHingeLimitVariable(*js.frameHinge, js.hinge, tA, js.rigid[1]->getCenterOfMassTransform());
+			js.lowerStop = js.hinge.low;
+			js.upperStop = js.hinge.high;
+			continue;
+		}
+		if (!js.limitSlot) continue;
+		js.angleReference = js.joint->getMultiTurnAngle();
+		js.lowerStop = js.joint->getLowerLimit();
+		js.upperStop = js.joint->getUpperLimit();
+	}
 }
 
 ProjectionResult projectIsland(Island& island, const ProjectionSettings& settings)

@@ -101,6 +101,17 @@ void gatherInputs(const Island& island, btScalar timeStep, Array<btScalar>& out)
 			static_assert(kPerJoint == 12 + 12 + 3, "a locked 6-dof fills the joint's share");
 			continue;
 		}
+		if (js.frameHinge)  // a stock or 6-dof hinge: its frames and limit as read this step (readAngleReferences)
+		{
+			const FrameHinge& h = js.hinge;
+			g.add(h.frameA);
+			g.add(h.frameB);
+			g.add(btScalar((h.angularOnly ? 1 : 0) + (h.sign > 0 ? 2 : 0) + (h.limit ? 4 : 0)));
+			g.add(h.center + h.low);
+			g.add(h.center + h.high);
+			if (js.limitSlot) g.add(js.angleReference);
+			continue;
+		}
 		if (js.point)  // a point constraint: its pivots, the rest of the joint's share zero
 		{
 			btVector3 inA, inB;

@@ -1,5 +1,5 @@
 // The rows of an island at its bodies' current state (docs/MATH.md Q13, Q14): C and J of every joint (the joint's
-// own computePositionRows and computeAngleRow), J v, and how far each is from converged against its tolerance and
+// own computePositionRows and computeAngleRow; a stock or 6-dof hinge's, StockHingeRows.h), J v, and how far each is from converged against its tolerance and
 // rounding floor (see IslandProjection.cpp for the thresholds' reasons).
 #ifndef QUATHINGE_STABILIZER_ISLAND_ROWS_H
 #define QUATHINGE_STABILIZER_ISLAND_ROWS_H
@@ -8,6 +8,7 @@
 #include "LockedRows.h"
 #include "PointRows.h"
 #include "StabilizerIsland.h"
+#include "StockHingeRows.h"
 
 #include "quathinge/btQuaternionHingeConstraint.h"
 
@@ -82,10 +83,11 @@ PositionResidual evaluatePositions(BlockIsland<R>& island, btScalar tolerance)
 		const btTransform& tB = js.rigid[1]->getCenterOfMassTransform();
 		// A joint with a limit slot also needs its angle row: both from one evaluation of the joint frames.
 		btVector3 g;
-		const int rows = js.point		? pointPositionRows(*js.point, tA, tB, c, jac)
-						 : js.locked	? lockedPositionRows(*js.locked, tA, tB, c, jac)
-						 : js.limitSlot ? js.joint->computePositionRows(tA, tB, c, jac, js.angleReference, js.angle, g)
-										: js.joint->computePositionRows(tA, tB, c, jac);
+		const int rows = js.point		 ? pointPositionRows(*js.point, tA, tB, c, jac)
+						 : js.locked	 ? lockedPositionRows(*js.locked, tA, tB, c, jac)
+						 : js.frameHinge ? frameHingePositionRows(js.hinge, tA, tB, c, jac, js.angleReference, js.angle, g)
+						 : js.limitSlot	 ? js.joint->computePositionRows(tA, tB, c, jac, js.angleReference, js.angle, g)
+										 : js.joint->computePositionRows(tA, tB, c, jac);
 		const int linearRows = js.linearRows;
 		btAssert(js.generalLinear() || hasPointStructure(jac, rows, linearRows));
 		btScalar linear = 0, angular = 0;
@@ -130,12 +132,12 @@ PositionResidual evaluatePositions(BlockIsland<R>& island, btScalar tolerance)
 		}
 		if (js.limitTouched == 0)
 		{
-			if (js.angle < js.joint->getLowerLimit()) js.limitTouched = 1;
-			else if (js.angle > js.joint->getUpperLimit()) js.limitTouched = -1;
+			if (js.angle < js.lowerStop) js.limitTouched = 1;
+			else if (js.angle > js.upperStop) js.limitTouched = -1;
 		}
 		js.limitActive = js.limitTouched != 0;
 		const int r = js.bilateralRows;
-		const btScalar stop = js.limitTouched > 0 ? js.joint->getLowerLimit() : js.joint->getUpperLimit();
+		const btScalar stop = js.limitTouched > 0 ? js.lowerStop : js.upperStop;
 		jb.c[r] = js.limitActive ? js.angle - stop : 0;
 		if (js.limitActive) jb.jacobian.row(r) = js.limitGradient;
 		else jb.jacobian.row(r).setZero();

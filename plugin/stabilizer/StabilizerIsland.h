@@ -27,6 +27,7 @@
 #include "BlockLDLT.h"
 #include "BlockMatrix.h"
 #include "SparseLDLT.h"
+#include "StockHingeRows.h"
 
 #include "LinearMath/btScalar.h"
 #include "LinearMath/btTransform.h"
@@ -58,17 +59,20 @@ struct SignatureEntry
 		kAngularOnly = 4,
 		kLimitSlot = 8,
 		kContact = 16,  // a contact slot (projectContacts: IslandContacts.h): body[1] null for the fixed partners
-		kLockedAxis0 = 32  // a locked 6-dof (projectLockedConstraints: LockedRows.h): its locked linear axes, bits 5–7
+		kLockedAxis0 = 32,  // a locked 6-dof (projectLockedConstraints: LockedRows.h): its locked linear axes, bits 5–7
+		kDofHinge = 256     // frameHinge is a 6-dof set up as a hinge (else a stock hinge: StockHingeRows.h)
 	};
 	btQuaternionHingeConstraint* joint;  // a quaternion hinge, or null for a point constraint
 	btTypedConstraint* point;            // a point constraint (projectPointConstraints: PointRows.h), or null
 	btTypedConstraint* locked = nullptr;  // a locked 6-dof (projectLockedConstraints: LockedRows.h), or null
+	btTypedConstraint* frameHinge = nullptr;  // a stock or 6-dof hinge (projectStock/DofHinges: StockHingeRows.h)
 	btRigidBody* body[2];
 	unsigned flags;
 	long long order = 0;  // a contact entry's place (scanContacts sorts by it); not part of the signature
 	bool operator==(const SignatureEntry& o) const
 	{
-		return joint == o.joint && point == o.point && locked == o.locked && body[0] == o.body[0] &&
+		return joint == o.joint && point == o.point && locked == o.locked && frameHinge == o.frameHinge &&
+			   body[0] == o.body[0] &&
 			   body[1] == o.body[1] && flags == o.flags;
 	}
 };
@@ -83,11 +87,18 @@ struct UpcastCache
 	Array<btQuaternionHingeConstraint*> hinges;
 };
 
-/// Appends the world's enabled quaternion hinges (and, with projectPoints, its point constraints: PointRows.h; with
-/// projectLocked, its locked 6-dofs: LockedRows.h) with a movable body that `filter` (if any) keeps, in constraint
-/// order, to out (cleared first); returns how many the filter left out.
-int scanWorld(btDynamicsWorld& world, bool projectLimits, bool projectPoints, bool projectLocked,
-			  const btQuaternionHingeStabilizerFilter* filter, UpcastCache& upcasts, Array<SignatureEntry>& out);
+/// Which constraints a scan takes besides quaternion hinges (btQuaternionHingeStabilizerSettings).
+struct ScanKinds
+{
+	bool limits, points, locked, stockHinges, dofHinges;
+};
+
+/// Appends the world's enabled quaternion hinges (and, with kinds.points, its point constraints: PointRows.h; with
+/// kinds.locked, its locked 6-dofs: LockedRows.h; with kinds.stockHinges/dofHinges, its stock and 6-dof hinges:
+/// StockHingeRows.h) with a movable body that `filter` (if any) keeps, in constraint order, to out (cleared first);
+/// returns how many the filter left out.
+int scanWorld(btDynamicsWorld& world, const ScanKinds& kinds, const btQuaternionHingeStabilizerFilter* filter,
+			  UpcastCache& upcasts, Array<SignatureEntry>& out);
 
 struct IslandBody
 {
@@ -129,9 +140,12 @@ struct ContactSet
 
 struct JointSlot
 {
-	btQuaternionHingeConstraint* joint;  // null for a point constraint, a locked 6-dof or a contact slot
+	btQuaternionHingeConstraint* joint;  // null for a point constraint, a locked 6-dof, a frame hinge or a contact slot
 	btTypedConstraint* point;            // a point constraint (PointRows.h), else null
 	btTypedConstraint* locked;           // a locked 6-dof (LockedRows.h), else null
+	btTypedConstraint* frameHinge;       // a stock or 6-dof hinge (StockHingeRows.h), else null
+	bool dofHinge;                       // … a 6-dof one
+	FrameHinge hinge;                    // its frames and limit, read at the step's start (readAngleReferences)
 	int contact;                         // a contact slot: its index in Island::contacts, else −1
 	// J's linear part is general (a contact slot's n per row, a locked 6-dof's frame-A axes), not linearSign·I:
 	// written with the rows at every evaluation, and taken by the general products (IslandSystem.h)
@@ -144,8 +158,11 @@ struct JointSlot
 	int rows;               // bilateralRows + limitSlot
 
 	// Per step.
-	btScalar angleReference;   // multi-turn angle at the step's start (getHingeAngle's sign; readAngleReferences)
-	btScalar angle;            // multi-turn angle at the last evaluation
+	// The limit row's variable: a quaternion hinge's multi-turn angle (getHingeAngle's sign), a frame hinge's v
+	// (StockHingeRows.h); its stops read at the step's start with it (readAngleReferences)
+	btScalar angleReference;   // at the step's start
+	btScalar angle;            // at the last evaluation
+	btScalar lowerStop, upperStop;
 	bool limitActive;          // the limit row is in the system (else a padding row)
 	bool limitActiveInFactor;  // … as it was when K was last factorized
 	int limitTouched;          // +1 the lower stop, −1 the upper stop was violated this step, 0 neither
@@ -217,6 +234,18 @@ struct RestCache
 	int pending = 0;          // the state a projection that runs now goes into (the older one)
 };
 
+/// The joints of an island by kind (btQuaternionHingeStabilizerStats): quaternion, stock and 6-dof hinges, point
+/// constraints, locked 6-dofs.
+enum JointKindIndex
+{
+	kQuaternionHinges,
+	kStockHinges,
+	kDofHinges,
+	kPointConstraints,
+	kLockedConstraints,
+	kJointKinds
+};
+
 /// What every island holds; the block-sized data is in BlockIsland<blockRows>.
 struct Island
 {
@@ -227,6 +256,7 @@ struct Island
 	Array<IslandBody> bodies;
 	Array<SignatureEntry> entries;  // the scan's entries it was built from, in scan order (kept while they stay)
 	Array<JointSlot> joints;  // in elimination order
+	int jointsOfKind[kJointKinds] = {0, 0, 0, 0, 0};  // by JointKindIndex
 	Array<ContactSet> contacts;  // the contact slots' points this step (projectContacts), by JointSlot::contact
 	bool generalLinear = false;  // some slot's J has a general linear part (JointSlot::generalLinear())
 	BlockPattern pattern;

@@ -93,7 +93,9 @@ void btQuaternionHingeStabilizer::setSettings(const btQuaternionHingeStabilizerS
 	if (settings.projectLimits != m_settings.projectLimits || settings.solver != m_settings.solver ||
 		settings.projectPointConstraints != m_settings.projectPointConstraints ||
 		settings.projectLockedConstraints != m_settings.projectLockedConstraints ||
-		settings.projectContacts != m_settings.projectContacts)
+		settings.projectContacts != m_settings.projectContacts ||
+		settings.projectStockHinges != m_settings.projectStockHinges ||
+		settings.projectDofHinges != m_settings.projectDofHinges)
 		invalidateStructure();
 	// a kept projection was made with the old settings
 	for (const auto& island : m_impl->islands) forgetProjection(*island);
@@ -127,8 +129,9 @@ const btQuaternionHingeStabilizerStats& btQuaternionHingeStabilizer::stabilize(b
 	m_stats = btQuaternionHingeStabilizerStats();
 
 	Impl& impl = *m_impl;
-	m_stats.filteredJoints = scanWorld(*world, m_settings.projectLimits, m_settings.projectPointConstraints,
-									   m_settings.projectLockedConstraints, m_filter, impl.upcasts, impl.scan);
+	const ScanKinds kinds{m_settings.projectLimits, m_settings.projectPointConstraints,
+						  m_settings.projectLockedConstraints, m_settings.projectStockHinges, m_settings.projectDofHinges};
+	m_stats.filteredJoints = scanWorld(*world, kinds, m_filter, impl.upcasts, impl.scan);
 	if (m_settings.projectContacts) scanContacts(*world->getDispatcher(), impl.scan, impl.contactIndex);
 	if (!impl.built || impl.scan.size() != impl.signature.size() ||
 		!std::equal(impl.scan.begin(), impl.scan.end(), impl.signature.begin()))
@@ -216,6 +219,11 @@ const btQuaternionHingeStabilizerStats& btQuaternionHingeStabilizer::stabilize(b
 		}
 		if (island.useSparse) ++m_stats.sparseIslands;
 		m_stats.joints += int(island.joints.size());
+		m_stats.quaternionHinges += island.jointsOfKind[kQuaternionHinges];
+		m_stats.stockHinges += island.jointsOfKind[kStockHinges];
+		m_stats.dofHinges += island.jointsOfKind[kDofHinges];
+		m_stats.pointConstraints += island.jointsOfKind[kPointConstraints];
+		m_stats.lockedConstraints += island.jointsOfKind[kLockedConstraints];
 		m_stats.bodies += int(island.bodies.size());
 		m_stats.rows += island.pattern.rows;
 		m_stats.iterations = std::max(m_stats.iterations, r.iterations);

@@ -335,6 +335,14 @@ public:
 	/// needs both on a joint with a limit): the same values, bit for bit, at about half the cost of the two calls.
 	int computePositionRows(const btTransform& transA, const btTransform& transB, btScalar* C, btScalar* jacobian,
 							btScalar previousAngle, btScalar& angle, btVector3& angleGradient) const;
+	/// The same rows for any hinge given by its two joint frames, frameInA and frameInB (in A's and B's centre-of-mass
+	/// frames, ẑ the hinge axis, as btHingeConstraint::getAFrame/getBFrame): what btQuaternionHingeStabilizer projects a
+	/// btHingeConstraint or a 6-dof set up as a hinge onto. angle: θ of frame B about ẑ of frame A (Q11,
+	/// useReferenceFrameA's sign), continued from previousAngle; angleGradient its derivative, as computeAngleRow's.
+	static int computeFramePositionRows(const btTransform& frameInA, const btTransform& frameInB, bool angularOnly,
+										const btTransform& transA, const btTransform& transB, btScalar* C,
+										btScalar* jacobian, btScalar previousAngle, btScalar& angle,
+										btVector3& angleGradient);
 
 	/// Draws the joint: pivot frames, the hinge axis and, with a limit, its arc (within one turn).
 	void debugDraw(btIDebugDraw * drawer, btScalar size = btScalar(0.3)) const;
@@ -353,10 +361,16 @@ private:
 		bool axialKnown;
 	};
 	void poseAt(const btTransform& transA, const btTransform& transB, Pose& pose) const;
-	/// computePositionRows and computeAngleRow at a pose already evaluated.
+	static void framePoseAt(const btTransform& frameInA, const btTransform& frameInB, const btTransform& transA,
+							const btTransform& transB, Pose& pose);
+	/// computePositionRows and computeAngleRow at a pose already evaluated (the frame* forms: for any frame pair,
+	/// computeFramePositionRows; sigma the angle's sign, userSign).
 	int positionRowsAt(const Pose& pose, const btTransform& transA, const btTransform& transB, btScalar* C,
 					   btScalar* jacobian) const;
+	static int framePositionRowsAt(const Pose& pose, const btTransform& transA, const btTransform& transB,
+								   bool angularOnly, btScalar* C, btScalar* jacobian);
 	btScalar angleRowAt(const Pose& pose, btScalar previousAngle, btVector3& gradient) const;
+	static btScalar frameAngleRowAt(const Pose& pose, btScalar sigma, btScalar previousAngle, btVector3& gradient);
 	void initFrames(const btTransform& frameA, const btTransform& frameB, bool useReferenceFrameA);  // + initFromSettings
 	void initFromSettings();
 	void refuseConstruction();

@@ -11,7 +11,12 @@ projects the bodies held by btQuaternionHingeConstraints back onto their joints:
                     floor), the iteration cap, or no further progress;
   (Q14) velocities: v ← v − M⁻¹ Jᵀ K⁻¹ J v with J at the projected positions (Cline & Pai, ICRA 2003).
 
-What it projects. Only btQuaternionHingeConstraints (btQuaternionHingeConstraint::upcast) that
+What it projects. Every hinge of the world, with no class swapped: btQuaternionHingeConstraints
+(btQuaternionHingeConstraint::upcast), and, with projectStockHinges and projectDofHinges (both on by default), stock
+btHingeConstraints and btHingeAccumulatedAngleConstraints and 6-dofs set up as hinges (btGeneric6DofSpring2Constraint,
+btGeneric6DofConstraint: linear axes locked, one angular axis free or limited, the others locked at 0) — each as its
+two joint frames, on which the quaternion hinge's own rows are evaluated, with a limit row of the joint's own limit
+meaning (docs/STABILIZED_JOINTS.md). Only those that
 are enabled (a disabled or broken joint is skipped), have at least one movable body and, when a filter is set
 (setFilter), are kept by it; with projectPointConstraints, also the pivots of btPoint2PointConstraints,
 btConeTwistConstraints and 6-dofs with their linear axes locked (three point rows each); with
@@ -128,10 +133,23 @@ struct btQuaternionHingeStabilizerSettings
 	bool projectVelocities = true;
 	/// Project violated limits (the limit row, as an inequality). Off: only the bilateral rows.
 	bool projectLimits = true;
+	/// Also project the hinges an app already has, with no class swapped (docs/STABILIZED_JOINTS.md): stock
+	/// btHingeConstraints and btHingeAccumulatedAngleConstraints — their frames (getAFrame, getBFrame; angular-only
+	/// respected) get the quaternion hinge's rows (btQuaternionHingeConstraint::computeFramePositionRows), and a limit
+	/// row with stock's meaning (its wrapped angle against the centre and half range it keeps: low > high free, a range
+	/// of 2π or more never acts; softness, unused by stock, unused here). On by default: adding the stabilizer asks for it.
+	bool projectStockHinges = true;
+	/// Also project 6-dofs set up as hinges, as Bullet's URDF importer builds a revolute joint between rigid bodies:
+	/// btGeneric6DofSpring2Constraint (any rotation order), btGeneric6DofConstraint and btGeneric6DofSpringConstraint
+	/// with their three linear axes locked (low == high, at any value), exactly one angular axis free or limited (any
+	/// of x, y, z) and the other two locked at 0 — the same rows on their frames turned so that ẑ is the free axis, and
+	/// a limit row on the 6-dof's own angle of that axis with its limits (wrapped, the nearer stop; lo > hi free).
+	/// Such a 6-dof is a hinge here, not a point constraint (projectPointConstraints). On by default.
+	bool projectDofHinges = true;
 	/// Also project the pivots of Bullet's point constraints, btPoint2PointConstraint, btConeTwistConstraint (its
 	/// three point rows, unless angular-only; a cone twist's swing and twist limits are not projected) and
-	/// btGeneric6DofSpring2Constraint with its three linear axes locked (low == high; a ball or a hinge built from a
-	/// 6-dof, its pivot moved by the locked values; its angles are not projected, and one with its angles locked at 0
+	/// btGeneric6DofSpring2Constraint with its three linear axes locked (low == high; a ball built from a 6-dof, or a hinge
+	/// when projectDofHinges is off, its pivot moved by the locked values; its angles are not projected, and one with its angles locked at 0
 	/// too, a weld or btFixedConstraint, is not taken), in the same islands as the quaternion hinges: a ragdoll of
 	/// hinges and cone twists then holds together at every joint. They go through the filter as well. Off (the
 	/// default): only quaternion hinges; other constraints are not seen.
@@ -228,6 +246,11 @@ struct btQuaternionHingeStabilizerStats
 	int velocitiesWithinTolerance = 0;  ///< islands projected whose J v was already within tolerance: no velocity solve
 	int sparseIslands = 0;        ///< of which solved by the general sparse LDLᵀ (closed loops, or forced)
 	int joints = 0;  ///< joints projected (point constraints and locked 6-dofs included: projectPoint/LockedConstraints)
+	int quaternionHinges = 0;   ///< of which btQuaternionHingeConstraints
+	int stockHinges = 0;        ///< … btHingeConstraints and btHingeAccumulatedAngleConstraints (projectStockHinges)
+	int dofHinges = 0;          ///< … 6-dofs set up as hinges (projectDofHinges)
+	int pointConstraints = 0;   ///< … point constraints (projectPointConstraints)
+	int lockedConstraints = 0;  ///< … locked 6-dofs (projectLockedConstraints)
 	int filteredJoints = 0;       ///< joints the filter left out (setFilter): not projected, not counted above
 	int bodies = 0;               ///< movable bodies in those islands
 	int attachedBodiesMoved = 0;  ///< attached bodies carried with their host (moveAttachedBodies)
@@ -268,8 +291,8 @@ struct btQuaternionHingeStabilizerStats
 struct QUATHINGE_STABILIZER_API btQuaternionHingeStabilizerFilter
 {
 	virtual ~btQuaternionHingeStabilizerFilter() {}
-	/// Called once per step for every enabled quaternion hinge (and point constraint, with projectPointConstraints)
-	/// with a movable body: true projects it. The answer may change from step to step (the islands are then rebuilt).
+	/// Called once per step for every enabled joint of a kind the settings project (quaternion, stock and 6-dof
+	/// hinges; point constraints and locked 6-dofs with their options) with a movable body: true projects it. The answer may change from step to step (the islands are then rebuilt).
 	/// btQuaternionHingeConstraint::upcast tells a quaternion hinge.
 	virtual bool needsStabilization(const btTypedConstraint& constraint) const = 0;
 };
@@ -306,7 +329,7 @@ public:
 	const btQuaternionHingeStabilizerSettings& getSettings() const { return m_settings; }
 
 	/// The joints to project: those `filter` says need it (not owned; it must outlive its use here). Null, the
-	/// default: every quaternion hinge of the world.
+	/// default: every joint of the kinds the settings project.
 	void setFilter(const btQuaternionHingeStabilizerFilter* filter) { m_filter = filter; }
 	const btQuaternionHingeStabilizerFilter* getFilter() const { return m_filter; }
 

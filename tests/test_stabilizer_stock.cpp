@@ -1,0 +1,214 @@
+// The hinges an app already has, as the stabilizer reads them with no class swapped (projectStockHinges,
+// projectDofHinges: on by default; plugin/stabilizer/StockHingeRows.h): btHingeConstraint and the 6-dofs set up as
+// hinges (btGeneric6DofSpring2Constraint in every rotation order, its free axis x, y or z; btGeneric6DofConstraint).
+// Their rows are the exact derivative of their C and of the limit variable (finite differences); the limit variable is
+// the joint's own angle and acts exactly where the joint's own limit test acts (low > high free, a range of 2π or more
+// never, the wrapped angle). Worlds of them: tests/test_stabilizer_stock_worlds.cpp.
+#ifdef QUATHINGE_HAVE_STABILIZER
+#include "StockHingeRows.h"
+#include "support/StockHinges.h"
+#include "support/World.h"
+
+#include <btBulletDynamicsCommon.h>
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cfloat>
+#include <cmath>
+#include <cstdlib>
+#include <cstring>
+#include <functional>
+#include <random>
+#include <string>
+#include <vector>
+
+using namespace qh_test;
+using quathinge::stabilizer::FrameHinge;
+using quathinge::stabilizer::FrameHingeKind;
+using quathinge::stabilizer::frameHingeLimitVariable;
+using quathinge::stabilizer::frameHingePositionRows;
+using quathinge::stabilizer::readFrameHinge;
+
+TEST(StabilizerStock, RowsAndLimitVariableAreTheDerivatives)
+{
+	// Central differences of C and of the limit variable v under small translations and rotations of either body
+	// against J's columns and v's gradient (±g on ω_A, ω_B), over seeded random frames and poses near the hinge and up
+	// to 1 rad off it, for every kind. Relative error per max(1, |entry|): 1e-6 in double, 2e-3 in float (step 1e-5,
+	// or float's ε^⅓), as tests/test_stabilizer_locked.cpp.
+	const double tolerance = kDouble ? 1e-6 : 2e-3;  // dimensionless
+	const btScalar h = kDouble ? btScalar(1e-5) : btScalar(std::cbrt(double(FLT_EPSILON)));  // m or rad
+	std::mt19937 rng(11);
+	std::uniform_real_distribution<double> u(-1, 1);
+	auto vec = [&](double s) { return btVector3(btScalar(s * u(rng)), btScalar(s * u(rng)), btScalar(s * u(rng))); };
+	btBoxShape shape(btVector3(btScalar(0.2), btScalar(0.1), btScalar(0.1)));
+	btRigidBody a(1, nullptr, &shape), b(1, nullptr, &shape);
+	int checked = 0;
+	for (const Kind& kind : kinds())
+		for (int n = 0; n < 12; ++n)
+		{
+			const btTransform fa(randomUnit(rng), vec(0.3)), fb(randomUnit(rng), vec(0.3));
+			std::unique_ptr<btTypedConstraint> c(kind.make(a, b, fa, fb, -1, 1));
+			FrameHinge hinge;
+			ASSERT_NE(readFrameHinge(*c, true, true, &hinge), FrameHingeKind::None) << kind.name;
+			btTransform tA, tB;
+			const double reach = n % 2 ? 0.05 : 1.0;
+			placeFrames(rng, fa, fb, kind.axis, 2 * u(rng), vec(0.1), expRotation(vec(reach / std::sqrt(3.0))), tA, tB);
+			btScalar C[5], J[60], Cp[5], Cm[5], Jp[60], v, vp, vm;
+			btVector3 g, gp;
+			const int rows = frameHingePositionRows(hinge, tA, tB, C, J, 0, v, g);
+			ASSERT_EQ(rows, 5);
+			for (int side = 0; side < 2; ++side)
+				for (int k = 0; k < 6; ++k)
+				{
+					auto moved = [&](btScalar s) {
+						btTransform t = side == 0 ? tA : tB;
+						btVector3 e(0, 0, 0);
+						e[k % 3] = s;
+						if (k < 3) t.setOrigin(t.getOrigin() + e);
+						else t.setRotation(expRotation(e) * t.getRotation());
+						return t;
+					};
+					frameHingePositionRows(hinge, side == 0 ? moved(h) : tA, side == 1 ? moved(h) : tB, Cp, Jp, v, vp, gp);
+					frameHingePositionRows(hinge, side == 0 ? moved(-h) : tA, side == 1 ? moved(-h) : tB, Cm, Jp, v, vm, gp);
+					for (int r = 0; r < rows; ++r)
+					{
+						const double fd = double(Cp[r] - Cm[r]) / (2 * double(h));
+						const double entry = double(J[12 * r + 6 * side + k]);
+						EXPECT_NEAR(fd, entry, tolerance * std::max(1.0, std::fabs(entry)))
+							<< kind.name << " configuration " << n << " row " << r << " side " << side << " column " << k;
+					}
+					const double fd = double(vp - vm) / (2 * double(h));
+					const double entry = k < 3 ? 0.0 : double(side == 0 ? -g[k - 3] : g[k - 3]);
+					EXPECT_NEAR(fd, entry, tolerance * std::max(1.0, std::fabs(entry)))
+						<< kind.name << " limit variable, configuration " << n << " side " << side << " column " << k;
+				}
+			++checked;
+		}
+	EXPECT_EQ(checked, 12 * int(kinds().size()));
+}
+
+TEST(StabilizerStock, LimitVariableIsTheJointsOwnAngleAndActsWhereItsTestActs)
+{
+	// On the hinge, at seeded random angles and limits (low > high, ranges of 2π or more, ranges across ±π included),
+	// the limit variable and its stops say what the joint's own limit test says: stock's testLimit (getSolveLimit,
+	// getLimitSign), a 6-dof's getInfo1 (its limit motor's current position, which it tests against its limits). Cases
+	// within kEdge of a stop are skipped (the two compute the angle in different roundings).
+	const double kEdge = 1e-4;  // rad
+	const double kAngleTolerance = kDouble ? 1e-9 : 2e-5;  // rad: the same angle, computed two ways
+	std::mt19937 rng(5);
+	std::uniform_real_distribution<double> u(-1, 1);
+	btBoxShape shape(btVector3(btScalar(0.2), btScalar(0.1), btScalar(0.1)));
+	btRigidBody a(1, nullptr, &shape), b(1, nullptr, &shape);
+	int acting = 0, free = 0, compared = 0;
+	for (const Kind& kind : kinds())
+		for (int n = 0; n < 60; ++n)
+		{
+			const btTransform fa(randomUnit(rng), btVector3(0, btScalar(0.1), 0)), fb(randomUnit(rng), btVector3(0, 0, 0));
+			// limits: a third narrow, a third wide (up to 10 rad: a range of 2π or more, or wrapped ends), a third
+			// reversed (low > high: free)
+			double lo = 3 * u(rng), hi = lo + 2 * std::fabs(u(rng));
+			if (n % 3 == 1) hi = lo + 10 * std::fabs(u(rng));
+			if (n % 3 == 2) std::swap(lo, hi);
+			std::unique_ptr<btTypedConstraint> c(kind.make(a, b, fa, fb, btScalar(lo), btScalar(hi)));
+			const double reach = middleAxis(kind) ? 0.45 * kPi : kPi;  // the middle axis's asin reaches ±90°
+			btTransform tA, tB;
+			placeFrames(rng, fa, fb, kind.axis, reach * u(rng), btVector3(0, 0, 0), btQuaternion::getIdentity(), tA, tB);
+			FrameHinge hinge;
+			bool limit = false;
+			ASSERT_NE(readFrameHinge(*c, true, true, &hinge, &limit), FrameHingeKind::None);
+			ASSERT_EQ(limit, hinge.limit);
+			const double v = double(frameHingeLimitVariable(*c, hinge, tA, tB));
+			bool ownActs, ownLower;
+			double ownPosition = v;
+			if (kind.name == "stock")
+			{
+				auto& stock = static_cast<btHingeConstraint&>(*c);
+				stock.testLimit(tA, tB);
+				ownActs = stock.getSolveLimit() != 0;
+				ownLower = stock.getLimitSign() > 0;
+				// the variable is the joint's angle less the range's centre, wrapped
+				const double ownAngle = double(stock.getHingeAngle(tA, tB));
+				const double centre = double(hinge.center);
+				EXPECT_NEAR(std::remainder(ownAngle - centre - v, 2 * kPi), 0.0, kAngleTolerance) << kind.name;
+			}
+			else
+			{
+				a.setCenterOfMassTransform(tA);
+				b.setCenterOfMassTransform(tB);
+				btTypedConstraint::btConstraintInfo1 info;
+				c->getInfo1(&info);
+				btScalar low, high;
+				if (c->getConstraintType() == D6_SPRING_2_CONSTRAINT_TYPE)
+				{
+					auto* motor = static_cast<btGeneric6DofSpring2Constraint&>(*c).getRotationalLimitMotor(kind.axis);
+					ownPosition = double(motor->m_currentPosition);
+					low = motor->m_loLimit;
+					high = motor->m_hiLimit;
+				}
+				else
+				{
+					auto* motor = static_cast<btGeneric6DofConstraint&>(*c).getRotationalLimitMotor(kind.axis);
+					ownPosition = double(motor->m_currentPosition);
+					low = motor->m_loLimit;
+					high = motor->m_hiLimit;
+				}
+				EXPECT_NEAR(v, ownPosition, kAngleTolerance) << kind.name << " lo " << lo << " hi " << hi;
+				ownActs = low <= high && (ownPosition < low || ownPosition > high);
+				ownLower = ownPosition < low;
+			}
+			if (std::fabs(v - double(hinge.low)) < kEdge || std::fabs(v - double(hinge.high)) < kEdge) continue;
+			const bool acts = hinge.limit && (v < hinge.low || v > hinge.high);
+			EXPECT_EQ(acts, ownActs) << kind.name << " lo " << lo << " hi " << hi << " v " << v;
+			if (acts && ownActs)
+			{
+				EXPECT_EQ(v < hinge.low, ownLower) << kind.name << " lo " << lo << " hi " << hi;
+			}
+			acting += acts;
+			free += !hinge.limit;
+			++compared;
+		}
+	EXPECT_GT(acting, 100);
+	EXPECT_GT(free, 100);
+	EXPECT_GT(compared, 1000);
+}
+
+TEST(StabilizerStock, LimitMeaningsOfAStockHinge)
+{
+	btBoxShape shape(btVector3(btScalar(0.2), btScalar(0.1), btScalar(0.1)));
+	btRigidBody a(1, nullptr, &shape), b(1, nullptr, &shape);
+	btHingeConstraint h(a, b, btTransform::getIdentity(), btTransform::getIdentity(), false);
+	FrameHinge hinge;
+	bool limit = true;
+	h.setLimit(1, -1);  // low > high: free
+	readFrameHinge(h, true, true, &hinge, &limit);
+	EXPECT_FALSE(limit);
+	h.setLimit(-4, 4);  // a range of 2π or more never acts (its ends wrap to 2.28 > −2.28)
+	readFrameHinge(h, true, true, &hinge, &limit);
+	EXPECT_FALSE(limit);
+	h.setLimit(btScalar(-kPi), btScalar(kPi));
+	readFrameHinge(h, true, true, &hinge, &limit);
+	EXPECT_FALSE(limit);
+	h.setLimit(btScalar(0.5), btScalar(0.5));  // a zero range locks (btAngularLimit::test: h ≥ 0)
+	readFrameHinge(h, true, true, &hinge, &limit);
+	EXPECT_TRUE(limit);
+	EXPECT_EQ(hinge.low, 0);
+	h.setLimit(btScalar(2.5), btScalar(3.8));  // across π: the stops are 0.65 rad either side of 3.15
+	readFrameHinge(h, true, true, &hinge, &limit);
+	EXPECT_TRUE(limit);
+	EXPECT_NEAR(double(hinge.high), 0.65, 1e-6);
+	// a 6-dof's whole turn never acts; reversed limits are free; a locked pair that is not at 0 is no hinge
+	auto d = std::unique_ptr<btGeneric6DofSpring2Constraint>(dofHinge(a, b, btTransform::getIdentity(),
+																	  btTransform::getIdentity(), 2, RO_XYZ,
+																	  btScalar(-kPi), btScalar(kPi)));
+	EXPECT_EQ(readFrameHinge(*d, true, true, &hinge, &limit), FrameHingeKind::Dof);
+	EXPECT_FALSE(limit);
+	d->setAngularLowerLimit(btVector3(0, btScalar(0.1), 1));
+	d->setAngularUpperLimit(btVector3(0, btScalar(0.1), -1));
+	EXPECT_EQ(readFrameHinge(*d, true, true, &hinge, &limit), FrameHingeKind::None);
+	d->setAngularLowerLimit(btVector3(0, 1, 1));  // two free axes: a universal joint
+	d->setAngularUpperLimit(btVector3(0, -1, -1));
+	EXPECT_EQ(readFrameHinge(*d, true, true, &hinge, &limit), FrameHingeKind::None);
+	EXPECT_EQ(readFrameHinge(h, false, true, &hinge, &limit), FrameHingeKind::None);  // kinds not asked for
+}
+
+#endif  // QUATHINGE_HAVE_STABILIZER
