@@ -83,8 +83,7 @@ struct btQuaternionHingeSettings
 	/// Joint frames in body A's and body B's local (centre-of-mass) frames. Origin: the pivot (m). Basis: orthonormal,
 	/// right-handed; its z column is the hinge axis, x and y span the plane orthogonal to it (MATH.md, Notation).
 	btTransform frameInA = btTransform::getIdentity();
-	/// Joint frame in body B's local frame (as frameInA).
-	btTransform frameInB = btTransform::getIdentity();
+	btTransform frameInB = btTransform::getIdentity();  ///< Joint frame in body B's local frame (as frameInA).
 	/// btHingeConstraint's useReferenceFrameA: false makes getHingeAngle() the negative of the quaternion angle θ (Q11).
 	bool useReferenceFrameA = false;
 	/// Only the two angular rows (no point-to-point rows): the joint aligns axes but does not hold the pivot.
@@ -98,10 +97,8 @@ struct btQuaternionHingeSettings
 	/// as stock's: setLimit leaves hasLimit false for it). Without it the values are kept as
 	/// given (stock's never-limited hinge reports 1 and −1, and so do these defaults).
 	bool hasLimit = false;
-	/// Lower end of the limit (rad, multi-turn angle).
-	btScalar lowerLimit = 1;
-	/// Upper end of the limit (rad, multi-turn angle).
-	btScalar upperLimit = -1;
+	btScalar lowerLimit = 1;  ///< Lower end of the limit (rad, multi-turn angle).
+	btScalar upperLimit = -1;  ///< Upper end of the limit (rad, multi-turn angle).
 	/// Any finite value, used within [0, 1]: the limit row is switched on speculatively once the angle is within
 	/// (1 − softness)·(upper − lower)/2 of a stop; until the stop is reached it only forbids crossing it within the
 	/// step. 1: row only at or past the stop. (Stock stores it and never uses it.)
@@ -116,20 +113,15 @@ struct btQuaternionHingeSettings
 	btQuaternionHingeDriveMode driveMode = BT_QHINGE_DRIVE_OFF;
 	/// Velocity drive: target angular velocity (rad/s) and maximum impulse per step (N·m·s, ≥ 0), as btHingeConstraint.
 	btScalar motorTargetVelocity = 0;
-	/// Velocity drive: maximum impulse per step (N·m·s, ≥ 0).
-	btScalar maxMotorImpulse = 0;
+	btScalar maxMotorImpulse = 0;  ///< Velocity drive: maximum impulse per step (N·m·s, ≥ 0).
 	/// Servo: target multi-turn angle (rad), maximum speed (rad/s, > 0), maximum torque (N·m, ≥ 0).
 	btScalar servoTargetAngle = 0;
-	/// Servo: maximum speed (rad/s, > 0).
-	btScalar servoMaxSpeed = SIMD_INFINITY;
-	/// Servo: maximum torque (N·m, ≥ 0).
-	btScalar servoMaxTorque = SIMD_INFINITY;
+	btScalar servoMaxSpeed = SIMD_INFINITY;  ///< Servo: maximum speed (rad/s, > 0).
+	btScalar servoMaxTorque = SIMD_INFINITY;  ///< Servo: maximum torque (N·m, ≥ 0).
 	/// Spring: rest angle (rad), frequency (Hz, > 0), damping ratio (≥ 0; 1 is critical).
 	btScalar springRestAngle = 0;
-	/// Spring: frequency (Hz, > 0).
-	btScalar springFrequency = 1;
-	/// Spring: damping ratio (≥ 0; 1 is critical).
-	btScalar springDampingRatio = 1;
+	btScalar springFrequency = 1;  ///< Spring: frequency (Hz, > 0).
+	btScalar springDampingRatio = 1;  ///< Spring: damping ratio (≥ 0; 1 is critical).
 	/// Joint friction: maximum friction torque (N·m, ≥ 0); 0 is off (no row).
 	btScalar maxFrictionTorque = 0;
 
@@ -138,12 +130,9 @@ struct btQuaternionHingeSettings
 	btScalar rowErp[6] = {0, 0, 0, 0, 0, 0};
 	/// Per-row-kind CFM overrides (row kinds as rowErp), used where flags has the kind's CFM bit.
 	btScalar rowCfm[6] = {0, 0, 0, 0, 0, 0};
-	/// ERP of the limit row (setParam(BT_CONSTRAINT_STOP_ERP)), used when flags has its bit.
-	btScalar stopErp = 0;
-	/// CFM of the limit row (setParam(BT_CONSTRAINT_STOP_CFM)), used when flags has its bit.
-	btScalar stopCfm = 0;
-	/// Which overrides are set: BT_QHINGE_FLAGS_* bits (as btHingeFlags for stock's).
-	int flags = 0;
+	btScalar stopErp = 0;  ///< ERP of the limit row (setParam(BT_CONSTRAINT_STOP_ERP)), used when flags has its bit.
+	btScalar stopCfm = 0;  ///< CFM of the limit row (setParam(BT_CONSTRAINT_STOP_CFM)), used when flags has its bit.
+	int flags = 0;  ///< Which overrides are set: BT_QHINGE_FLAGS_* bits (as btHingeFlags for stock's).
 };
 
 /// A hinge for Bullet whose two angular rows come from the relative quaternion of the joint frames (MATH.md
@@ -237,27 +226,18 @@ public:
 	virtual const char* serialize(void* dataBuffer, btSerializer* serializer) const;
 
 	// ---- btHingeConstraint's public methods ----------------------------------------------------------------------------
-	/// Body A (const).
-	const btRigidBody& getRigidBodyA() const { return m_rbA; }
-	/// Body B (const).
-	const btRigidBody& getRigidBodyB() const { return m_rbB; }
-	/// Body A.
-	btRigidBody& getRigidBodyA() { return m_rbA; }
-	/// Body B.
-	btRigidBody& getRigidBodyB() { return m_rbB; }
+	const btRigidBody& getRigidBodyA() const { return m_rbA; }  ///< Body A (const).
+	const btRigidBody& getRigidBodyB() const { return m_rbB; }  ///< Body B (const).
+	btRigidBody& getRigidBodyA() { return m_rbA; }  ///< Body A.
+	btRigidBody& getRigidBodyB() { return m_rbB; }  ///< Body B.
 
 	/// Frames (non-const access as in btHingeConstraint: an edit is re-validated before the next solve).
 	btTransform& getFrameOffsetA();
-	/// Joint frame in body B (an edit is re-validated before the next solve).
-	btTransform& getFrameOffsetB();
-	/// Joint frame in body A, as getFrameOffsetA().
-	btTransform& getAFrame() { return getFrameOffsetA(); }
-	/// Joint frame in body B, as getFrameOffsetB().
-	btTransform& getBFrame() { return getFrameOffsetB(); }
-	/// Joint frame in body A (const).
-	const btTransform& getAFrame() const { return m_settings.frameInA; }
-	/// Joint frame in body B (const).
-	const btTransform& getBFrame() const { return m_settings.frameInB; }
+	btTransform& getFrameOffsetB();  ///< Joint frame in body B (an edit is re-validated before the next solve).
+	btTransform& getAFrame() { return getFrameOffsetA(); }  ///< Joint frame in body A, as getFrameOffsetA().
+	btTransform& getBFrame() { return getFrameOffsetB(); }  ///< Joint frame in body B, as getFrameOffsetB().
+	const btTransform& getAFrame() const { return m_settings.frameInA; }  ///< Joint frame in body A (const).
+	const btTransform& getBFrame() const { return m_settings.frameInB; }  ///< Joint frame in body B (const).
 	/// Sets both joint frames (rigid frames only; refused otherwise).
 	void setFrames(const btTransform& frameA, const btTransform& frameB);
 	/// As btHingeConstraint::setAxis: new hinge axis in A (finite, non-zero, any length: normalized), B's frame
@@ -266,8 +246,7 @@ public:
 
 	/// Only the two angular rows (no point rows): aligns the axes without holding the pivot.
 	void setAngularOnly(bool angularOnly) { m_settings.angularOnly = angularOnly; }
-	/// Whether only the angular rows are used.
-	bool getAngularOnly() const { return m_settings.angularOnly; }
+	bool getAngularOnly() const { return m_settings.angularOnly; }  ///< Whether only the angular rows are used.
 	/// Stock's row-formulation switch, kept for source compatibility (both values give the same rows).
 	bool getUseFrameOffset() const { return m_settings.useFrameOffset; }
 	/// Stock's row-formulation switch, kept for source compatibility (both values give the same rows).
@@ -279,10 +258,8 @@ public:
 
 	/// btHingeConstraint's motor: a velocity drive. enableAngularMotor(false, …) turns the velocity drive off.
 	void enableAngularMotor(bool enableMotor, btScalar targetVelocity, btScalar maxMotorImpulse);
-	/// Turns the velocity drive on or off, keeping its target and impulse.
-	void enableMotor(bool enableMotor);
-	/// The velocity drive's maximum impulse per step (N·m·s, ≥ 0).
-	void setMaxMotorImpulse(btScalar maxMotorImpulse);
+	void enableMotor(bool enableMotor);  ///< Turns the velocity drive on or off, keeping its target and impulse.
+	void setMaxMotorImpulse(btScalar maxMotorImpulse);  ///< The velocity drive's maximum impulse per step (N·m·s, ≥ 0).
 	/// The velocity drive's target angular velocity (rad/s).
 	void setMotorTargetVelocity(btScalar motorTargetVelocity);
 	/// As stock: sets the motor's target velocity so that the angle reaches targetAngle (clamped to the limit) in dt.
@@ -315,14 +292,11 @@ public:
 	{
 		return (m_settings.hasLimit || m_limitIsOneTurn) && m_settings.upperLimit > m_settings.lowerLimit;
 	}
-	/// Lower end of the limit as set (rad).
-	btScalar getLowerLimit() const { return m_settings.lowerLimit; }
-	/// Upper end of the limit as set (rad).
-	btScalar getUpperLimit() const { return m_settings.upperLimit; }
+	btScalar getLowerLimit() const { return m_settings.lowerLimit; }  ///< Lower end of the limit as set (rad).
+	btScalar getUpperLimit() const { return m_settings.upperLimit; }  ///< Upper end of the limit as set (rad).
 	/// The limit's softness as set (btQuaternionHingeSettings::limitSoftness).
 	btScalar getLimitSoftness() const { return m_settings.limitSoftness; }
-	/// The limit's bias factor as set.
-	btScalar getLimitBiasFactor() const { return m_settings.limitBiasFactor; }
+	btScalar getLimitBiasFactor() const { return m_settings.limitBiasFactor; }  ///< The limit's bias factor as set.
 	/// The limit's relaxation factor as set.
 	btScalar getLimitRelaxationFactor() const { return m_settings.limitRelaxationFactor; }
 	/// As stock: whether the limit row was active at the last getInfo1/testLimit, and its sign (+1 at the lower stop,
@@ -361,8 +335,7 @@ public:
 	void setSpring(btScalar restAngle, btScalar frequencyHz, btScalar dampingRatio);
 	/// Turns off whatever drive is on (velocity motor, servo or spring).
 	void disableDrive();
-	/// Which drive is on.
-	btQuaternionHingeDriveMode getDriveMode() const { return m_settings.driveMode; }
+	btQuaternionHingeDriveMode getDriveMode() const { return m_settings.driveMode; }  ///< Which drive is on.
 	/// Joint friction: maximum friction torque (N·m, ≥ 0); 0 turns it off.
 	void setMaxFrictionTorque(btScalar maxTorque);
 	/// Joint friction's maximum torque (N·m); 0 is off.
