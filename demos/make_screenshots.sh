@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The README's pictures from the viewer (issue 7), rendered headless under Xvfb:
+# The manual's pictures from the viewer (docs/DEMOS.md, README), rendered headless under Xvfb:
 #   bash demos/make_screenshots.sh        (a few seconds after the build)
 # Writes docs/images/viewer_heavy1000.png (stock beside the stabilized quaternion hinge, panel and plots),
 # docs/images/viewer_heavy1000_strip.png (the same at 0.25, 0.75, 1.25 and 1.75 s, stacked) and

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The issue-16 sweep as published in the README: the bare quaternion hinge (its default rows) against stock
+# The row-basis sweep as published in docs/RESULTS.md: the bare quaternion hinge (its default rows) against stock
 # btHingeConstraint on every scene of the library, the URDF robots and the inertia-ratio family, at 10, 20, 50, 100
 # and 250 iterations, each scene at its own step:
 #   bash demos/make_sweep.sh [--publish] [out-dir]   (default demos/out/sweep, git-ignored; under a minute on two cores)

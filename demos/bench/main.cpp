@@ -14,7 +14,7 @@
 //
 // QUATHINGE_BENCH_FTZ=1 runs every case with the thread's flush-to-zero and denormals-are-zero set (x86 MXCSR), as
 // engines that set them for their physics thread do (Jolt's FPFlushDenormals): on an Intel host subnormal numbers in
-// Bullet's solver slowed stock's chain of 1000 fourfold (README, "Cost"). Unset: the floating-point environment a
+// Bullet's solver slowed stock's chain of 1000 fourfold (docs/PERFORMANCE.md). Unset: the floating-point environment a
 // default Bullet app has.
 //
 // Ratios against stock and the scaling plot: demos/bench_report.py; everything in one go: demos/make_bench.sh.

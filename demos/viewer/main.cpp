@@ -1,4 +1,4 @@
-// quathinge-viewer (issue 7): any scene of the scene library simulated with two or more joint kinds side by side —
+// quathinge-viewer: any scene of the scene library simulated with two or more joint kinds side by side —
 // one viewport per kind, the same camera — with live plots of joint separation, axis misalignment and energy,
 // controls for scene, kinds, step, iterations, pause, single step and reset, mouse picking (a btPoint2PointConstraint
 // dragged with the left button, as Bullet's example browser does) and the joints' own debug drawing.
@@ -13,6 +13,7 @@
 #include "Viewer.h"
 
 #include "JointKinds.h"
+#include "KindHelp.h"
 #include "SceneSpec.h"
 
 #include <CLI/CLI.hpp>
@@ -41,20 +42,24 @@ int main(int argc, char** argv)
 {
 	Options o;
 	CLI::App app{"quathinge-viewer: joint kinds side by side on the scene library"};
-	app.add_option("--scene", o.scene, "scene name (quathinge-compare --list shows them)");
-	app.add_option("--kinds", o.kinds, "kinds, side by side: stock 6dof2 quaternion quaternion+stab multibody")->delimiter(',');
-	app.add_option("--dt", o.dt, "time step (s)");
-	app.add_option("--iterations", o.iterations, "solver iterations");
+	app.add_option("--scene", o.scene, "scene name (quathinge-compare --list shows them)")->capture_default_str();
+	app.add_option("--kinds", o.kinds, "joint kinds side by side, comma-separated (below)")->delimiter(',')->capture_default_str();
+	app.add_option("--dt", o.dt, "time step (s)")->capture_default_str();
+	app.add_option("--iterations", o.iterations, "solver iterations")->capture_default_str();
 	app.add_option("--models", o.models, "directory of the models (default: as quathinge-compare --help says)");
 	app.add_option("--screenshot", o.screenshot, "render headless: write this PNG after --frames steps and exit");
-	app.add_option("--frames", o.frames, "steps before the screenshot");
+	app.add_option("--frames", o.frames, "steps before the screenshot")->capture_default_str();
 	app.add_option("--strip", o.strip, "write a frame strip (frames at --strip-frames, stacked) to this PNG and exit");
-	app.add_option("--strip-frames", o.stripFrames, "steps at which the strip's frames are taken")->delimiter(',');
+	app.add_option("--strip-frames", o.stripFrames, "steps at which the strip's frames are taken")->delimiter(',')->capture_default_str();
 	app.add_flag("--no-ui", o.noUi, "no control panel (labels stay)");
 	app.add_option("--drag-body", o.drag, "scripted mouse drag (headless test of picking): pane,body,dx,dy — from step 10 "
 										  "the body is picked where it appears on screen and dragged dx, dy pixels over "
 										  "30 steps")->delimiter(',')->expected(4);
-	app.add_option("--size", o.width, "window width (the height is 9/16 of it)");
+	app.add_option("--size", o.width, "window width in pixels (the height is 9/16 of it)")->capture_default_str();
+	app.footer("Mouse: left drag pulls the body under the cursor (a btPoint2PointConstraint, as Bullet's example "
+			   "browser does); right drag orbits the camera; the wheel zooms. The panel sets scene, kinds, step, "
+			   "iterations, pause, single step, reset and the stabilizer's options.\n\nJoint kinds (--kinds):\n" +
+			   kindHelpText() + "\nExample: quathinge-viewer --scene chain30 --kinds stock,quaternion,quaternion+stab");
 	CLI11_PARSE(app, argc, argv);
 	o.height = o.width * 9 / 16;
 	const bool headless = !o.screenshot.empty() || !o.strip.empty();

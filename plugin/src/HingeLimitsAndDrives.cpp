@@ -155,7 +155,7 @@ void btQuaternionHingeConstraint::setLimit(btScalar low, btScalar high, btScalar
 	}
 	// A range of exactly one turn (high − low = 2π within kOneTurnTolerance: setLimit(−π, π), Godot's HingeJoint with
 	// its limit off) never acts, as stock's never does (it wraps the angle into a turn): the common way to say "no
-	// limit". Wider ranges act on the multi-turn angle (README, difference table).
+	// limit". Wider ranges act on the multi-turn angle (docs/MIGRATING.md, the difference table).
 	const bool oneTurn = acts && std::isfinite(low) && std::isfinite(high) &&
 						 btFabs((high - low) - SIMD_2_PI) <= check::kOneTurnTolerance;
 	m_limitIsOneTurn = oneTurn;

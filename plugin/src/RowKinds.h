@@ -1,5 +1,5 @@
 // The joint's row kinds, as setParam's axis numbers them (per-row ERP and CFM): shared by the parameters
-// (HingeErpCfm.cpp) and the rows that use them (HingeSolverRows.cpp).
+// (HingeErpCfm.cpp) and the rows that use them (HingeSolverRows.cpp, HingeBilateralRows.cpp).
 #ifndef QUATHINGE_ROW_KINDS_H
 #define QUATHINGE_ROW_KINDS_H
 

@@ -1,10 +1,12 @@
 // btQuaternionHingeConstraint: composes the point part (3 linear rows), the quaternion two-row part
 // (QuaternionHingeRows.h, MATH.md Q2–Q10, Q12) and the axis part (AxisRows.h: limit, drive, friction), and tracks the
-// multi-turn angle (HingeAngle.h, Q11). The class lives in four files, one concept each:
+// multi-turn angle (HingeAngle.h, Q11). The class lives in six files, one concept each:
 //   btQuaternionHingeConstraint.cpp  construction, the joint frames and the pose they give (this file)
 //   HingeLimitsAndDrives.cpp         limit, motor, servo, spring and friction settings; the angle and multi-turn angle
 //   HingeErpCfm.cpp                  setParam/getParam: ERP and CFM per row kind
 //   HingeSolverRows.cpp              the solver interface: which rows exist (getInfo1) and their values (getInfo2)
+//   HingeBilateralRows.cpp           the five bilateral rows in the solver's row basis
+//   HingePositionRows.cpp            computePositionRows: the same equations at given transforms
 #include "quathinge/btQuaternionHingeConstraint.h"
 #include "quathinge/btQuaternionHingeSerialization.h"
 

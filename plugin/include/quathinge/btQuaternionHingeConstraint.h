@@ -8,7 +8,7 @@ same sign conventions. Its two angular rows are the exact derivative of the rela
 hertz, and joint friction. Every row it reports is one it needs: a bare joint is 5 rows (2 when angular-only), a
 limit row exists only while the limit is active, a drive row only while a drive is on.
 
-Differences from btHingeConstraint are listed in README.md ("Differences from btHingeConstraint").
+Differences from btHingeConstraint are listed in docs/MIGRATING.md.
 
 Errors: every constructor and setter checks its arguments and refuses only what has no meaning (NaN/Inf, a zero axis,
 the same body twice, a negative impulse); the message names the function and the parameter
@@ -83,13 +83,13 @@ struct btQuaternionHingeSettings
 	/// Joint frames in body A's and body B's local (centre-of-mass) frames. Origin: the pivot (m). Basis: orthonormal,
 	/// right-handed; its z column is the hinge axis, x and y span the plane orthogonal to it (MATH.md, Notation).
 	btTransform frameInA = btTransform::getIdentity();
-	btTransform frameInB = btTransform::getIdentity();
+	btTransform frameInB = btTransform::getIdentity();  ///< Joint frame in body B's local frame (as frameInA).
 	/// btHingeConstraint's useReferenceFrameA: false makes getHingeAngle() the negative of the quaternion angle θ (Q11).
 	bool useReferenceFrameA = false;
 	/// Only the two angular rows (no point-to-point rows): the joint aligns axes but does not hold the pivot.
 	bool angularOnly = false;
 	/// Kept for btHingeConstraint source compatibility; the quaternion rows have a single exact form, so both values
-	/// give the same rows (documented in README, "Differences").
+	/// give the same rows (docs/MIGRATING.md).
 	bool useFrameOffset = true;
 
 	/// Limit on the multi-turn angle (rad). hasLimit: the limit acts (then lowerLimit ≤ upperLimit; the range may be
@@ -97,8 +97,8 @@ struct btQuaternionHingeSettings
 	/// as stock's: setLimit leaves hasLimit false for it). Without it the values are kept as
 	/// given (stock's never-limited hinge reports 1 and −1, and so do these defaults).
 	bool hasLimit = false;
-	btScalar lowerLimit = 1;
-	btScalar upperLimit = -1;
+	btScalar lowerLimit = 1;  ///< Lower end of the limit (rad, multi-turn angle).
+	btScalar upperLimit = -1;  ///< Upper end of the limit (rad, multi-turn angle).
 	/// Any finite value, used within [0, 1]: the limit row is switched on speculatively once the angle is within
 	/// (1 − softness)·(upper − lower)/2 of a stop; until the stop is reached it only forbids crossing it within the
 	/// step. 1: row only at or past the stop. (Stock stores it and never uses it.)
@@ -109,30 +109,36 @@ struct btQuaternionHingeSettings
 	/// Any value within ±1e3: bounce on hitting a stop when > 0; restitution = bias · relaxation.
 	btScalar limitRelaxationFactor = btScalar(1.0);
 
+	/// Which drive acts along the axis: none, velocity motor, servo or spring.
 	btQuaternionHingeDriveMode driveMode = BT_QHINGE_DRIVE_OFF;
 	/// Velocity drive: target angular velocity (rad/s) and maximum impulse per step (N·m·s, ≥ 0), as btHingeConstraint.
 	btScalar motorTargetVelocity = 0;
-	btScalar maxMotorImpulse = 0;
+	btScalar maxMotorImpulse = 0;  ///< Velocity drive: maximum impulse per step (N·m·s, ≥ 0).
 	/// Servo: target multi-turn angle (rad), maximum speed (rad/s, > 0), maximum torque (N·m, ≥ 0).
 	btScalar servoTargetAngle = 0;
-	btScalar servoMaxSpeed = SIMD_INFINITY;
-	btScalar servoMaxTorque = SIMD_INFINITY;
+	btScalar servoMaxSpeed = SIMD_INFINITY;  ///< Servo: maximum speed (rad/s, > 0).
+	btScalar servoMaxTorque = SIMD_INFINITY;  ///< Servo: maximum torque (N·m, ≥ 0).
 	/// Spring: rest angle (rad), frequency (Hz, > 0), damping ratio (≥ 0; 1 is critical).
 	btScalar springRestAngle = 0;
-	btScalar springFrequency = 1;
-	btScalar springDampingRatio = 1;
+	btScalar springFrequency = 1;  ///< Spring: frequency (Hz, > 0).
+	btScalar springDampingRatio = 1;  ///< Spring: damping ratio (≥ 0; 1 is critical).
 	/// Joint friction: maximum friction torque (N·m, ≥ 0); 0 is off (no row).
 	btScalar maxFrictionTorque = 0;
 
 	/// Per-row ERP/CFM overrides; a row kind uses the solver's global value unless its bit is set in flags.
 	/// Row kinds: 0..2 linear, 3..4 angular (quaternion), 5 axial (drive). STOP values act on the limit row.
 	btScalar rowErp[6] = {0, 0, 0, 0, 0, 0};
+	/// Per-row-kind CFM overrides (row kinds as rowErp), used where flags has the kind's CFM bit.
 	btScalar rowCfm[6] = {0, 0, 0, 0, 0, 0};
-	btScalar stopErp = 0;
-	btScalar stopCfm = 0;
-	int flags = 0;
+	btScalar stopErp = 0;  ///< ERP of the limit row (setParam(BT_CONSTRAINT_STOP_ERP)), used when flags has its bit.
+	btScalar stopCfm = 0;  ///< CFM of the limit row (setParam(BT_CONSTRAINT_STOP_CFM)), used when flags has its bit.
+	int flags = 0;  ///< Which overrides are set: BT_QHINGE_FLAGS_* bits (as btHingeFlags for stock's).
 };
 
+/// A hinge for Bullet whose two angular rows come from the relative quaternion of the joint frames (MATH.md
+/// Q2–Q12): a drop-in replacement for btHingeConstraint with stock's constructors and methods, limits on a multi-turn
+/// angle, a servo, a spring, joint friction and per-row ERP/CFM. It is not a btHingeConstraint: identify one with
+/// upcast(). Bad input is refused, naming the parameter (btQuaternionHingeErrors.h).
 ATTRIBUTE_ALIGNED16(class)
 QUATHINGE_API btQuaternionHingeConstraint : public btTypedConstraint
 {
@@ -148,8 +154,10 @@ public:
 	/// Body A hinged to the world (Bullet's fixed body) at pivotInA about axisInA.
 	btQuaternionHingeConstraint(btRigidBody & rbA, const btVector3& pivotInA, const btVector3& axisInA,
 								bool useReferenceFrameA = false);
+	/// Joint frames in A's and B's local frames (origin: the pivot; z column: the hinge axis), as stock's.
 	btQuaternionHingeConstraint(btRigidBody & rbA, btRigidBody & rbB, const btTransform& rbAFrame,
 								const btTransform& rbBFrame, bool useReferenceFrameA = false);
+	/// Body A hinged to the world with its joint frame rbAFrame, as stock's.
 	btQuaternionHingeConstraint(btRigidBody & rbA, const btTransform& rbAFrame, bool useReferenceFrameA = false);
 
 	/// The equivalent of an existing stock hinge: same bodies, frames, limits, motor, ERP/CFM parameters, breaking
@@ -165,10 +173,13 @@ public:
 	/// that carry this type number (Bullet and QuatHinge are built with it). Use it instead of a static_cast on
 	/// getConstraintType().
 	static btQuaternionHingeConstraint* upcast(btTypedConstraint * constraint);
+	/// The const form of upcast().
 	static const btQuaternionHingeConstraint* upcast(const btTypedConstraint* constraint);
 
 	// ---- btTypedConstraint --------------------------------------------------------------------------------------------
+	/// Bullet's solver interface: how many rows the joint has this step (0 when disabled or faulted).
 	virtual void getInfo1(btConstraintInfo1 * info);
+	/// Bullet's solver interface: the rows' Jacobians, errors, CFM and bounds, in getInfo1's count.
 	virtual void getInfo2(btConstraintInfo2 * info);
 	/// For Bullet's non-virtual path: as stock's (which reserves a fixed 6), every row getInfo2NonVirtual may write —
 	/// the bilateral rows, the drive and friction rows when on, and a limit row whenever a limit acts (it is tested
@@ -187,11 +198,13 @@ public:
 	{
 		getInfo2NonVirtual(info, transA, transB, angVelA, angVelB);
 	}
+	/// Stock's frame-offset row formulation: the same rows as getInfo2Internal (above).
 	void getInfo2InternalUsingFrameOffset(btConstraintInfo2 * info, const btTransform& transA, const btTransform& transB,
 										  const btVector3& angVelA, const btVector3& angVelB)
 	{
 		getInfo2NonVirtual(info, transA, transB, angVelA, angVelB);
 	}
+	/// As stock's: nothing to update (the rows are written whole by getInfo2).
 	void updateRHS(btScalar /*timeStep*/) {}
 
 	/// ERP / STOP_ERP / CFM / STOP_CFM. axis −1 or 5 means what it means for stock: ERP for every row, CFM for the
@@ -202,43 +215,52 @@ public:
 	/// The value set for (num, axis), or 0 when none was set (as stock, whose unset values are 0; the solver's global
 	/// value is then in effect). Never fails: an unknown num or axis returns 0.
 	virtual btScalar getParam(int num, int axis = -1) const;
+	/// The BT_QHINGE_FLAGS_* bits of the ERP/CFM overrides that are set.
 	virtual int getFlags() const { return m_settings.flags; }
 
 	/// Writes a btHingeConstraintData that any Bullet reader loads as a stock hinge, and through the serializer a second
 	/// chunk with everything a QuatHinge reader needs to restore the joint (btQuaternionHingeSerialization.h; these
 	/// forward to btQuaternionHingeSerializeBufferSize and btQuaternionHingeSerialize).
 	virtual int calculateSerializeBufferSize() const;
+	/// Writes the joint (see calculateSerializeBufferSize); returns the chunk's struct name.
 	virtual const char* serialize(void* dataBuffer, btSerializer* serializer) const;
 
 	// ---- btHingeConstraint's public methods ----------------------------------------------------------------------------
-	const btRigidBody& getRigidBodyA() const { return m_rbA; }
-	const btRigidBody& getRigidBodyB() const { return m_rbB; }
-	btRigidBody& getRigidBodyA() { return m_rbA; }
-	btRigidBody& getRigidBodyB() { return m_rbB; }
+	const btRigidBody& getRigidBodyA() const { return m_rbA; }  ///< Body A (const).
+	const btRigidBody& getRigidBodyB() const { return m_rbB; }  ///< Body B (const).
+	btRigidBody& getRigidBodyA() { return m_rbA; }  ///< Body A.
+	btRigidBody& getRigidBodyB() { return m_rbB; }  ///< Body B.
 
 	/// Frames (non-const access as in btHingeConstraint: an edit is re-validated before the next solve).
 	btTransform& getFrameOffsetA();
-	btTransform& getFrameOffsetB();
-	btTransform& getAFrame() { return getFrameOffsetA(); }
-	btTransform& getBFrame() { return getFrameOffsetB(); }
-	const btTransform& getAFrame() const { return m_settings.frameInA; }
-	const btTransform& getBFrame() const { return m_settings.frameInB; }
+	btTransform& getFrameOffsetB();  ///< Joint frame in body B (an edit is re-validated before the next solve).
+	btTransform& getAFrame() { return getFrameOffsetA(); }  ///< Joint frame in body A, as getFrameOffsetA().
+	btTransform& getBFrame() { return getFrameOffsetB(); }  ///< Joint frame in body B, as getFrameOffsetB().
+	const btTransform& getAFrame() const { return m_settings.frameInA; }  ///< Joint frame in body A (const).
+	const btTransform& getBFrame() const { return m_settings.frameInB; }  ///< Joint frame in body B (const).
+	/// Sets both joint frames (rigid frames only; refused otherwise).
 	void setFrames(const btTransform& frameA, const btTransform& frameB);
 	/// As btHingeConstraint::setAxis: new hinge axis in A (finite, non-zero, any length: normalized), B's frame
 	/// re-derived from the current pose.
 	void setAxis(btVector3 & axisInA);
 
+	/// Only the two angular rows (no point rows): aligns the axes without holding the pivot.
 	void setAngularOnly(bool angularOnly) { m_settings.angularOnly = angularOnly; }
-	bool getAngularOnly() const { return m_settings.angularOnly; }
+	bool getAngularOnly() const { return m_settings.angularOnly; }  ///< Whether only the angular rows are used.
+	/// Stock's row-formulation switch, kept for source compatibility (both values give the same rows).
 	bool getUseFrameOffset() const { return m_settings.useFrameOffset; }
+	/// Stock's row-formulation switch, kept for source compatibility (both values give the same rows).
 	void setUseFrameOffset(bool frameOffsetOnOff) { m_settings.useFrameOffset = frameOffsetOnOff; }
+	/// Stock's useReferenceFrameA: false makes getHingeAngle() −θ (Q11).
 	bool getUseReferenceFrameA() const { return m_settings.useReferenceFrameA; }
+	/// Sets stock's useReferenceFrameA (the angle's sign; the multi-turn angle follows).
 	void setUseReferenceFrameA(bool useReferenceFrameA);
 
 	/// btHingeConstraint's motor: a velocity drive. enableAngularMotor(false, …) turns the velocity drive off.
 	void enableAngularMotor(bool enableMotor, btScalar targetVelocity, btScalar maxMotorImpulse);
-	void enableMotor(bool enableMotor);
-	void setMaxMotorImpulse(btScalar maxMotorImpulse);
+	void enableMotor(bool enableMotor);  ///< Turns the velocity drive on or off, keeping its target and impulse.
+	void setMaxMotorImpulse(btScalar maxMotorImpulse);  ///< The velocity drive's maximum impulse per step (N·m·s, ≥ 0).
+	/// The velocity drive's target angular velocity (rad/s).
 	void setMotorTargetVelocity(btScalar motorTargetVelocity);
 	/// As stock: sets the motor's target velocity so that the angle reaches targetAngle (clamped to the limit) in dt.
 	/// Must be called every tick; setServoTarget holds an angle without that.
@@ -246,8 +268,11 @@ public:
 	/// qAinB: rotation of body A relative to body B, as stock: its twist about the hinge axis is the target angle
 	/// (also with useReferenceFrameA, where stock takes it unchanged although getHingeAngle() changes sign).
 	void setMotorTarget(const btQuaternion& qAinB, btScalar dt);
+	/// Whether the velocity drive is on.
 	bool getEnableAngularMotor() const { return m_settings.driveMode == BT_QHINGE_DRIVE_VELOCITY; }
+	/// The velocity drive's target angular velocity (rad/s).
 	btScalar getMotorTargetVelocity() const { return m_settings.motorTargetVelocity; }
+	/// The velocity drive's maximum impulse per step (N·m·s).
 	btScalar getMaxMotorImpulse() const { return m_settings.maxMotorImpulse; }
 
 	/// Limit on the multi-turn angle (radians; may straddle ±π, may be wider than 2π). As stock: low > high frees the
@@ -267,20 +292,24 @@ public:
 	{
 		return (m_settings.hasLimit || m_limitIsOneTurn) && m_settings.upperLimit > m_settings.lowerLimit;
 	}
-	btScalar getLowerLimit() const { return m_settings.lowerLimit; }
-	btScalar getUpperLimit() const { return m_settings.upperLimit; }
+	btScalar getLowerLimit() const { return m_settings.lowerLimit; }  ///< Lower end of the limit as set (rad).
+	btScalar getUpperLimit() const { return m_settings.upperLimit; }  ///< Upper end of the limit as set (rad).
+	/// The limit's softness as set (btQuaternionHingeSettings::limitSoftness).
 	btScalar getLimitSoftness() const { return m_settings.limitSoftness; }
-	btScalar getLimitBiasFactor() const { return m_settings.limitBiasFactor; }
+	btScalar getLimitBiasFactor() const { return m_settings.limitBiasFactor; }  ///< The limit's bias factor as set.
+	/// The limit's relaxation factor as set.
 	btScalar getLimitRelaxationFactor() const { return m_settings.limitRelaxationFactor; }
 	/// As stock: whether the limit row was active at the last getInfo1/testLimit, and its sign (+1 at the lower stop,
 	/// −1 at the upper stop, 0 when free).
 	int getSolveLimit() const { return m_limitSign != 0 ? 1 : 0; }
+	/// +1 at the lower stop, −1 at the upper stop, 0 when free (as stock).
 	btScalar getLimitSign() const { return btScalar(m_limitSign); }
 	/// Updates the limit state from the given transforms (as stock).
 	void testLimit(const btTransform& transA, const btTransform& transB);
 
 	/// The hinge angle in (−π, π], stock's convention (Q11 with stock's sign: −θ unless useReferenceFrameA).
 	btScalar getHingeAngle() const;
+	/// The hinge angle at the given body transforms, as getHingeAngle().
 	btScalar getHingeAngle(const btTransform& transA, const btTransform& transB) const;
 
 	// ---- Beyond btHingeConstraint -------------------------------------------------------------------------------------
@@ -306,12 +335,15 @@ public:
 	void setSpring(btScalar restAngle, btScalar frequencyHz, btScalar dampingRatio);
 	/// Turns off whatever drive is on (velocity motor, servo or spring).
 	void disableDrive();
-	btQuaternionHingeDriveMode getDriveMode() const { return m_settings.driveMode; }
+	btQuaternionHingeDriveMode getDriveMode() const { return m_settings.driveMode; }  ///< Which drive is on.
 	/// Joint friction: maximum friction torque (N·m, ≥ 0); 0 turns it off.
 	void setMaxFrictionTorque(btScalar maxTorque);
+	/// Joint friction's maximum torque (N·m); 0 is off.
 	btScalar getMaxFrictionTorque() const { return m_settings.maxFrictionTorque; }
 
+	/// The joint's whole configuration (a joint built from it is the same joint).
 	const btQuaternionHingeSettings& getSettings() const { return m_settings; }
+	/// Why the joint gives no rows, if it does not (BT_QHINGE_FAULT_NONE otherwise).
 	btQuaternionHingeFault getFault() const { return m_fault; }
 	/// Clears a fault and re-enables the joint (after the user repaired the bodies' state). A fault stands until this
 	/// call (setEnabled(true) alone gives no rows while it stands), and a refused frame edit is checked again here:
@@ -343,6 +375,10 @@ public:
 										const btTransform& transA, const btTransform& transB, btScalar* C,
 										btScalar* jacobian, btScalar previousAngle, btScalar& angle,
 										btVector3& angleGradient);
+	/// The same without the angle (a hinge with no limit row: the angle's atan2 saved).
+	static int computeFramePositionRows(const btTransform& frameInA, const btTransform& frameInB, bool angularOnly,
+										const btTransform& transA, const btTransform& transB, btScalar* C,
+										btScalar* jacobian);
 
 	/// Draws the joint: pivot frames, the hinge axis and, with a limit, its arc (within one turn).
 	void debugDraw(btIDebugDraw * drawer, btScalar size = btScalar(0.3)) const;
@@ -426,13 +462,17 @@ QUATHINGE_API btQuaternionHingeAccumulatedAngleConstraint : public btQuaternionH
 public:
 	BT_DECLARE_ALIGNED_ALLOCATOR();
 
+	/// Pivots and axes in A's and B's local frames, as btQuaternionHingeConstraint's.
 	btQuaternionHingeAccumulatedAngleConstraint(btRigidBody & rbA, btRigidBody & rbB, const btVector3& pivotInA,
 												const btVector3& pivotInB, const btVector3& axisInA,
 												const btVector3& axisInB, bool useReferenceFrameA = false);
+	/// Body A hinged to the world at pivotInA about axisInA.
 	btQuaternionHingeAccumulatedAngleConstraint(btRigidBody & rbA, const btVector3& pivotInA, const btVector3& axisInA,
 												bool useReferenceFrameA = false);
+	/// Joint frames in A's and B's local frames.
 	btQuaternionHingeAccumulatedAngleConstraint(btRigidBody & rbA, btRigidBody & rbB, const btTransform& rbAFrame,
 												const btTransform& rbBFrame, bool useReferenceFrameA = false);
+	/// Body A hinged to the world with its joint frame rbAFrame.
 	btQuaternionHingeAccumulatedAngleConstraint(btRigidBody & rbA, const btTransform& rbAFrame,
 												bool useReferenceFrameA = false);
 	/// The equivalent of a stock hinge (btQuaternionHingeConstraint's conversion); from a

@@ -36,9 +36,16 @@ const int kQuaternionHingeChunkVersion = 2;
 /// The QuatHinge chunk. Fixed types only (int, double), so float and double builds write and read the same bytes.
 struct btQuaternionHingeChunkData
 {
+	///@{
+	/// Header: kQuaternionHingeMagic, the layout version (kQuaternionHingeChunkVersion) and the writer's
+	/// sizeof(btQuaternionHingeChunkData).
 	char m_magic[8];
 	int m_version;
 	int m_size;  // sizeof(btQuaternionHingeChunkData) of the writer
+	///@}
+	///@{
+	/// The joint's flags and switches, as btQuaternionHingeSettings has them (0 or 1; the drive mode as
+	/// btQuaternionHingeDriveMode); m_multiTurnValid: whether m_multiTurnAngle was being tracked.
 	int m_flags;
 	int m_hasLimit;
 	int m_driveMode;
@@ -46,12 +53,19 @@ struct btQuaternionHingeChunkData
 	int m_useReferenceFrameA;
 	int m_angularOnly;
 	int m_multiTurnValid;
-	// btTypedConstraint
+	///@}
+	///@{
+	/// btTypedConstraint's state: enabled, user type and id, solver-iteration override, joint feedback wanted.
 	int m_isEnabled;
 	int m_userConstraintType;
 	int m_userConstraintId;
 	int m_overrideNumSolverIterations;
 	int m_needsFeedback;
+	///@}
+	///@{
+	/// The joint's settings (btQuaternionHingeSettings, same names and units): frames, limit (full range, not
+	/// wrapped), motor, servo, spring, friction, ERP and CFM per row kind, the multi-turn angle, the breaking
+	/// threshold and the debug-draw size.
 	btTransformDoubleData m_frameInA, m_frameInB;
 	double m_lowerLimit, m_upperLimit;  // full range, not wrapped
 	double m_limitSoftness, m_limitBiasFactor, m_limitRelaxationFactor;
@@ -64,6 +78,7 @@ struct btQuaternionHingeChunkData
 	double m_multiTurnAngle;
 	double m_breakingImpulseThreshold;
 	double m_dbgDrawSize;
+	///@}
 };
 
 /// The old pointer under which the QuatHinge chunk of the joint written under `jointOldPointer` (the joint chunk's

@@ -130,6 +130,7 @@ struct btQuaternionHingeStabilizerSettings
 	btScalar minimumProgress = btScalar(0.5);
 	/// The two halves of the projection (Q13, Q14); each can be turned off.
 	bool projectPositions = true;
+	/// Project the velocities (Q14) after the positions.
 	bool projectVelocities = true;
 	/// Project violated limits (the limit row, as an inequality). Off: only the bilateral rows.
 	bool projectLimits = true;
@@ -172,7 +173,7 @@ struct btQuaternionHingeStabilizerSettings
 	/// RagdollDemo ragdolls, with projectPointConstraints, rest 1.8e-3 m deep against 4.3e-3 m without a stabilizer.
 	/// Contacts with kinematic bodies and with dynamic bodies no projected joint holds are not rows. Off by default: a
 	/// pair slot usually closes a loop (the general sparse LDLᵀ) and a body that starts or stops touching rebuilds its
-	/// island (allocating): 2.9 × stock on a crowd of 100 ragdolls, against 1.6 × without it (README, "Mixed ragdolls").
+	/// island (allocating): 2.9 × stock on a crowd of 100 ragdolls, against 1.6 × without it (docs/PERFORMANCE.md, "Mixed ragdolls").
 	bool projectContacts = false;
 	/// Carry attached bodies: a body whose every enabled constraint goes to one projected body (its host) and that
 	/// is dynamic, awake and held by no projected joint — a gripper's finger on its slider, a lamp on a point-to-point
@@ -196,13 +197,14 @@ struct btQuaternionHingeStabilizerSettings
 	/// weight (its mass unchanged): above 1 it prefers moving a body along over turning it. A move enters a point row
 	/// linearly, a turn through R(Δθ)·r, whose second-order term is what makes Newton's step fall short on a long
 	/// taut chain (measured at 30: a 100-link chain 2.2 → 1.2 Newton iterations per step, a 1000-link one 3.5 → 1.2;
-	/// README, "Cost"). The quaternion rows still turn the bodies (no move changes them), and any weight converges to
+	/// docs/PERFORMANCE.md). The quaternion rows still turn the bodies (no move changes them), and any weight converges to
 	/// the same manifold; only the point on it differs, by the order of the error removed. 1 is the mass metric M
 	/// (Cline & Pai). The velocity projection (Q14) always uses M. [1, 1e6].
 	btScalar positionRotationWeight = btScalar(30);
 	/// Relative diagonal regularization ε of K: K + ε·(trace K / rows)·I. Keeps redundant and closed-loop islands
 	/// finite. [0, 1e-2]; 0 only when no island is ever redundant.
 	btScalar regularization = btScalar(1e-9);
+	/// How K is factorized: automatic (tree block LDLᵀ, sparse LDLᵀ for loops) or always sparse.
 	btQuaternionHingeStabilizerSolver solver = BT_QHSTAB_SOLVER_AUTO;
 	/// The projection does no work (on by default; docs/ENERGY.md, Q15–Q19). Ideal joints exert no power, so their
 	/// correction may neither add nor remove energy, nor change a free island's momentum. Per island and step: after
@@ -297,6 +299,10 @@ struct QUATHINGE_STABILIZER_API btQuaternionHingeStabilizerFilter
 	virtual bool needsStabilization(const btTypedConstraint& constraint) const = 0;
 };
 
+/// The post-stabilizer: a btActionInterface that, after every internal step, projects the bodies of each island of
+/// quaternion hinges back onto their joints, positions by Newton (MATH.md Q13) and velocities in the mass metric (Q14).
+/// Add it with btDynamicsWorld::addAction; configure it with btQuaternionHingeStabilizerSettings (getSettings,
+/// setSettings) and, to project only some joints, a btQuaternionHingeStabilizerFilter (setFilter).
 ATTRIBUTE_ALIGNED16(class)
 QUATHINGE_STABILIZER_API btQuaternionHingeStabilizer : public btActionInterface
 {
@@ -326,11 +332,13 @@ public:
 	/// Refuses a setting out of range, naming the field (thrown, or reported without exceptions); nothing is changed
 	/// then.
 	void setSettings(const btQuaternionHingeStabilizerSettings& settings);
+	/// The settings in use: change a copy and hand it to setSettings.
 	const btQuaternionHingeStabilizerSettings& getSettings() const { return m_settings; }
 
 	/// The joints to project: those `filter` says need it (not owned; it must outlive its use here). Null, the
 	/// default: every joint of the kinds the settings project.
 	void setFilter(const btQuaternionHingeStabilizerFilter* filter) { m_filter = filter; }
+	/// The filter set by setFilter, or null.
 	const btQuaternionHingeStabilizerFilter* getFilter() const { return m_filter; }
 
 	/// Statistics of the last updateAction or stabilize call.

@@ -40,9 +40,12 @@ libbullet-extras-dev), which the QuatHinge library itself does not link. Link th
 #include <stdexcept>
 #endif
 
+/// Loads .bullet files with their quaternion hinges, in place of btBulletWorldImporter (header-only; link Bullet's
+/// world importer and file loader). Stock hinges stay stock; the importer owns what it loaded (deleteAllData()).
 class btQuaternionHingeWorldImporter : public btBulletWorldImporter
 {
 public:
+	/// Loads into `world` (null: builds the objects without adding them to a world), as btBulletWorldImporter.
 	explicit btQuaternionHingeWorldImporter(btDynamicsWorld* world = 0) : btBulletWorldImporter(world) {}
 
 	/// Hinges restored as quaternion hinges by the last load.
