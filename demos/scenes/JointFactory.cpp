@@ -217,6 +217,11 @@ const JointFactory* jointFactory(Kind kind)
 		case Kind::QuaternionStabilized: return &stabilized;
 		case Kind::QuaternionStabilizedEnergy: return &stabilizedEnergy;
 		case Kind::MultiBody: return nullptr;
+		case Kind::StockMLCP:
+		case Kind::StockNNCG: return &stock;  // the same joints; the solver differs (solverOf)
+		case Kind::QuaternionMLCP:
+		case Kind::QuaternionNNCG: return &quaternion;
+		case Kind::MultiBodyDamped: return nullptr;
 	}
 	return nullptr;
 }

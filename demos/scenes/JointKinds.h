@@ -27,9 +27,35 @@ enum class Kind
 	/// QuaternionStabilized with the stabilizer's conserveEnergy option: for conservative scenes only (not among
 	/// allKinds(): the energy table of demos/make_report.sh asks for it by name)
 	QuaternionStabilizedEnergy,
+	// The peers (docs/PEERS.md): Bullet's other solvers, and btMultiBody with its default damping. Not among allKinds().
+	StockMLCP,        ///< btHingeConstraint, btMLCPSolver + btDantzigSolver (a direct solve; capped: kMlcpMaxRows)
+	StockNNCG,        ///< btHingeConstraint, btNNCGConstraintSolver
+	QuaternionMLCP,   ///< btQuaternionHingeConstraint, btMLCPSolver + btDantzigSolver
+	QuaternionNNCG,   ///< btQuaternionHingeConstraint, btNNCGConstraintSolver
+	MultiBodyDamped,  ///< MultiBody with btMultiBody's default linear and angular damping (0.04)
 };
 std::vector<Kind> allKinds();
+/// The peers a Bullet user could pick instead (docs/PEERS.md), beside allKinds(): stock and the quaternion hinge
+/// under btMLCPSolver (Dantzig) and btNNCGConstraintSolver, and the damped multibody.
+std::vector<Kind> peerKinds();
 std::string kindName(Kind kind);
+/// One line per kind, "name  what it is" (quathinge-compare --help), in the order of kindCatalog().
+std::string kindsHelp();
+/// Which solver a kind's world runs (Simulation.cpp).
+enum class SolverChoice
+{
+	SequentialImpulse,  ///< btSequentialImpulseConstraintSolver (the maximal-coordinate kinds' default)
+	MLCPDantzig,        ///< btMLCPSolver with btDantzigSolver; falls back to sequential impulse when Dantzig fails
+	NNCG,               ///< btNNCGConstraintSolver
+	MultiBody           ///< btMultiBodyConstraintSolver in a btMultiBodyDynamicsWorld
+};
+SolverChoice solverOf(Kind kind);
+/// Dantzig's cost grows as n³ in the rows n of one solved group: the MLCP kinds refuse (skip, saying so) a scene
+/// with more compared hinge rows than this (5 per hinge, 6 per slider).
+constexpr int kMlcpMaxRows = 200;
+/// btMultiBody's default damping (its constructor's linear and angular damping), which MultiBodyDamped keeps and
+/// MultiBody sets to 0.
+constexpr double kMultiBodyDefaultDamping = 0.04;
 /// Throws std::invalid_argument naming the unknown kind.
 Kind parseKind(const std::string& name);
 
@@ -54,6 +80,9 @@ struct RunSettings
 	std::function<void(btDiscreteDynamicsWorld&)> prepare;
 	/// Called after every step with the measured joints (the sweep's swing-rate statistics); not for the reference.
 	std::function<void(const std::vector<MeasuredJoint>&)> afterStep;
+	/// A common reference trajectory (Reference.h, written by the double build's --write-reference): when set, the
+	/// trajectory error is measured against it over its horizon instead of the fine-step reference.
+	std::string referenceFile;
 };
 
 /// The fine-step reference trajectory: the scene with `kind` at dt/16 and 100 iterations, every body's position after
@@ -110,6 +139,10 @@ struct Metrics
 	int steps = 0;
 	long rssFirstKb = -1;                ///< resident memory at the first sample (kB), soak runs
 	long rssLastKb = -1;                 ///< resident memory at the last sample (kB)
+	int mlcpFallbacks = -1;              ///< btMLCPSolver::getNumFallbacks() at the end (MLCP kinds), else −1
+	/// m, RunSettings::referenceFile's horizon: the largest RMS over bodies of |position − reference| at its samples
+	double referenceError = -1;
+	double referenceHorizon = -1;        ///< s
 	std::vector<SeriesPoint> series;
 };
 
