@@ -2,7 +2,7 @@
 // With no arguments it runs README's demo command (cmake/run-demo.sh): a representative subset that finishes well
 // under a minute on two cores.
 #include "JointKinds.h"
-#include "KindHelp.h"
+#include "Reference.h"
 #include "SceneSpec.h"
 
 #include <CLI/CLI.hpp>
@@ -37,12 +37,13 @@ void writeCsv(const std::string& path, const std::vector<Metrics>& results)
 	out << "scene,kind,dt,iterations,skipped,max_separation_m,rms_separation_m,max_misalignment_deg,"
 		   "rms_misalignment_deg,recovery_time_s,limit_violation_rad,final_theta_rad,energy_drift,trajectory_error,reference,blew_up,"
 		   "blow_up_time_s,max_energy_gain,wall_per_sim_s,cpu_per_sim_s,"
-		   "rows_per_step,steps,slider_separation_m\n";
+		   "rows_per_step,steps,slider_separation_m,reference_error_m,reference_horizon_s,mlcp_fallbacks\n";
 	for (const Metrics& m : results)
 		out << m.scene << ',' << m.kind << ',' << m.dt << ',' << m.iterations << ",\"" << m.skipped << "\","
 			<< m.maxSeparation << ',' << m.rmsSeparation << ',' << m.maxMisalignmentDeg << ',' << m.rmsMisalignmentDeg
 			<< ',' << m.recoveryTime << ',' << m.limitViolation << ',' << m.finalTheta << ',' << m.energyDrift << ',' << m.trajectoryError << ",\"" << m.reference << "\"," << m.blewUp << ','
-			<< m.blowUpTime << ',' << m.maxEnergyGain << ',' << m.wallPerSimSecond << ',' << m.cpuPerSimSecond << ',' << m.rowsPerStep << ',' << m.steps << ',' << m.maxSliderSeparation << '\n';
+			<< m.blowUpTime << ',' << m.maxEnergyGain << ',' << m.wallPerSimSecond << ',' << m.cpuPerSimSecond << ',' << m.rowsPerStep << ',' << m.steps << ',' << m.maxSliderSeparation << ','
+			<< m.referenceError << ',' << m.referenceHorizon << ',' << m.mlcpFallbacks << '\n';
 }
 
 void writeJson(const std::string& path, const std::vector<Metrics>& results)
@@ -72,7 +73,10 @@ void writeJson(const std::string& path, const std::vector<Metrics>& results)
 							{"cpu_per_sim_s", m.cpuPerSimSecond},
 							{"rows_per_step", m.rowsPerStep},
 							{"steps", m.steps},
-							{"slider_separation_m", m.maxSliderSeparation}};
+							{"slider_separation_m", m.maxSliderSeparation},
+							{"reference_error_m", m.referenceError},
+							{"reference_horizon_s", m.referenceHorizon},
+							{"mlcp_fallbacks", m.mlcpFallbacks}};
 		if (!m.series.empty())
 		{
 			nlohmann::json series = nlohmann::json::array();
@@ -101,10 +105,11 @@ int main(int argc, char** argv)
 	std::string out = "quathinge-out", models = "";
 	bool noReference = false, series = false, list = false;
 	long soak = 0;
-	std::string referenceExe, dumpReference;
+	std::string referenceExe, dumpReference, referenceDir, writeReferenceDir;
+	double referenceDt = kReferenceStep;
 	int dumpSteps = 0;
 	app.add_option("-s,--scenes", scenes, "scene names (--list shows them), or URDF paths")->capture_default_str();
-	app.add_option("-k,--kinds", kinds, "joint kinds (below)")->capture_default_str();
+	app.add_option("-k,--kinds", kinds, "joint kinds (below; docs/PEERS.md for the peers' settings)")->capture_default_str();
 	app.add_option("--dt", dt, "time step (s)")->capture_default_str()->check(CLI::PositiveNumber);
 	app.add_option("-i,--iterations", iterations, "solver iterations")->capture_default_str()->check(CLI::PositiveNumber);
 	app.add_option("-d,--duration", duration, "simulated seconds (default: each scene's own)");
@@ -126,12 +131,20 @@ int main(int argc, char** argv)
 	app.add_flag("--dump-reference", "print the fine-step reference trajectory of the first scene and kind (every body's "
 									 "position after each of --dump-steps steps of --dt) and exit");
 	app.add_option("--dump-steps", dumpSteps, "coarse steps for --dump-reference");
-	app.footer("Joint kinds (-k):\n" + kindHelpText() +
+	app.add_option("--reference-dir", referenceDir,
+				   "measure reference_error_m against the common references DIR/<scene>.ref (--write-reference)");
+	app.add_option("--write-reference", writeReferenceDir,
+				   "write each scene's common reference to DIR/<scene>.ref (run it in the double build: docs/PEERS.md), "
+				   "print its step, halving change, divergence time and horizon, and exit (-d: its length, default the "
+				   "scene's duration)");
+	app.add_option("--reference-dt", referenceDt, "the common reference's step (s)")->capture_default_str()
+		->check(CLI::PositiveNumber);
+	app.footer("Joint kinds (-k):" + kindsHelp() + "\n" +
 			   "\nExample: compare stock and the stabilized hinge on two chains at 200 Hz and 20 iterations:\n"
 			   "  quathinge-compare -s heavy1000 chain30 -k stock quaternion+stab --dt 0.005 -i 20 -o my-run\n"
 			   "writes my-run/results.csv and my-run/results.json under the current directory and prints the table.\n"
-			   "Defaults: 60 Hz (--dt 0.0166667), 10 iterations, each scene's own duration, the five kinds stock 6dof2 "
-			   "quaternion quaternion+stab multibody, output in ./quathinge-out.");
+			   "Defaults: 60 Hz (--dt 0.0166667), 10 iterations, each scene's own duration, the kinds stock 6dof2 "
+			   "quaternion quaternion+stab multibody stock+stab 6dof2+stab, output in ./quathinge-out.");
 	CLI11_PARSE(app, argc, argv);
 
 	if (models.empty()) models = defaultModelsDir();
@@ -161,6 +174,26 @@ int main(int argc, char** argv)
 			return 2;
 		}
 	}
+	if (!writeReferenceDir.empty())
+	{
+		std::filesystem::create_directories(writeReferenceDir);
+		std::cout << "scene,kind,precision,step_s,iterations,horizon_s,halving_change_m,divergence_time_s,halving_time_s\n";
+		for (const std::string& name : scenes)
+			try
+			{
+				const ReferenceTrajectory r = makeReference(makeScene(name, seed, models), referenceDt, duration);
+				writeReference(r, writeReferenceDir + "/" + name + ".ref");
+				std::cout << fmt::format("{},{},{},{:.6g},{},{:.10g},{:.3g},{:.4g},{:.4g}\n", name, r.kind, r.precision, r.step,
+										 r.iterations, r.horizon, r.halvingChange, r.divergenceTime, r.halvingTime)
+						  << std::flush;
+			}
+			catch (const std::exception& e)
+			{
+				std::cerr << "quathinge-compare: --write-reference: " << name << ": " << e.what() << '\n';
+				return 2;
+			}
+		return 0;
+	}
 	if (sweepSteps.empty()) sweepSteps = {dt};
 	if (sweepIterations.empty()) sweepIterations = {iterations};
 
@@ -184,6 +217,7 @@ int main(int argc, char** argv)
 						settings.sceneArgument = name;
 						settings.modelsDir = models;
 						settings.seed = seed;
+						if (!referenceDir.empty()) settings.referenceFile = referenceDir + "/" + name + ".ref";
 						if (soak > 0)
 						{
 							settings.duration = double(soak) * h;
@@ -253,6 +287,11 @@ int main(int argc, char** argv)
 			sliders = true;
 			std::cout << fmt::format("  {:<16} {:<16} {} m\n", m.scene, m.kind, figure(m.maxSliderSeparation));
 		}
+	for (const Metrics& m : results)
+		if (m.skipped.empty() && (m.referenceHorizon > 0 || m.mlcpFallbacks >= 0))
+			std::cout << fmt::format("  {:<16} {:<16} common-reference error {} m over {} s; MLCP fallbacks {} of {} steps\n",
+									 m.scene, m.kind, figure(m.referenceError), figure(m.referenceHorizon, "{:.3g}"),
+									 m.mlcpFallbacks >= 0 ? std::to_string(m.mlcpFallbacks) : "-", m.steps);
 	std::cout << "\ntrajectory reference per scene:\n";
 	for (size_t i = 0; i < results.size(); ++i)
 		if (results[i].skipped.empty() && (i == 0 || results[i].scene != results[i - 1].scene))

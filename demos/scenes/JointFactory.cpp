@@ -232,6 +232,11 @@ const JointFactory* jointFactory(Kind kind)
 		case Kind::MultiBody: return nullptr;
 		case Kind::StockStabilized: return &stockStabilized;
 		case Kind::Generic6Dof2Stabilized: return &generic6Dof2Stabilized;
+		case Kind::StockMLCP:
+		case Kind::StockNNCG: return &stock;  // the same joints; the solver differs (solverOf)
+		case Kind::QuaternionMLCP:
+		case Kind::QuaternionNNCG: return &quaternion;
+		case Kind::MultiBodyDamped: return nullptr;
 	}
 	return nullptr;
 }

@@ -44,7 +44,8 @@ public:
 	virtual std::unique_ptr<btActionInterface> makeAction() const { return nullptr; }
 };
 
-/// The factory of a maximal-coordinate kind; null for Kind::MultiBody.
+/// The factory of a maximal-coordinate kind (the solver kinds share stock's and the quaternion hinge's); null for the
+/// multibody kinds.
 const JointFactory* jointFactory(Kind kind);
 
 }  // namespace scenes

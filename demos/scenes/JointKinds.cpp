@@ -14,30 +14,79 @@ std::vector<Kind> allKinds()
 			Kind::MultiBody, Kind::StockStabilized, Kind::Generic6Dof2Stabilized};
 }
 
-std::string kindName(Kind kind)
+std::vector<Kind> peerKinds()
+{
+	return {Kind::StockMLCP, Kind::StockNNCG, Kind::QuaternionMLCP, Kind::QuaternionNNCG, Kind::MultiBodyDamped};
+}
+
+namespace
+{
+// Every kind with its name and one line of help (quathinge-compare --help): one entry per kind, append new ones.
+struct KindEntry
+{
+	Kind kind;
+	const char* name;
+	const char* help;
+};
+const std::vector<KindEntry>& kindCatalog()
+{
+	static const std::vector<KindEntry> catalog = {
+		{Kind::Stock, "stock", "Bullet's btHingeConstraint, sequential impulse"},
+		{Kind::Generic6Dof2, "6dof2", "btGeneric6DofSpring2Constraint with five axes locked: Bullet's other hinge"},
+		{Kind::Quaternion, "quaternion", "btQuaternionHingeConstraint, the rows alone"},
+		{Kind::QuaternionStabilized, "quaternion+stab", "btQuaternionHingeConstraint + btQuaternionHingeStabilizer"},
+		{Kind::MultiBody, "multibody", "btMultiBody revolute links, damping 0; loops closed by btMultiBodyPoint2Point"},
+		{Kind::StockStabilized, "stock+stab", "btHingeConstraint + btQuaternionHingeStabilizer (no class swapped)"},
+		{Kind::Generic6Dof2Stabilized, "6dof2+stab", "the 6dof2 hinges + btQuaternionHingeStabilizer (no class swapped)"},
+		{Kind::QuaternionStabilizedEnergy, "quaternion+stab+energy",
+		 "quaternion+stab with the deprecated conserveEnergy option (conservative scenes only; not in the defaults)"},
+		{Kind::StockMLCP, "stock+mlcp", "btHingeConstraint, btMLCPSolver + btDantzigSolver (<= 200 rows)"},
+		{Kind::StockNNCG, "stock+nncg", "btHingeConstraint, btNNCGConstraintSolver"},
+		{Kind::QuaternionMLCP, "quaternion+mlcp", "btQuaternionHingeConstraint, btMLCPSolver + btDantzigSolver"},
+		{Kind::QuaternionNNCG, "quaternion+nncg", "btQuaternionHingeConstraint, btNNCGConstraintSolver"},
+		{Kind::MultiBodyDamped, "multibody-damped", "multibody with btMultiBody's default damping 0.04"},
+	};
+	return catalog;
+}
+}  // namespace
+
+std::string kindsHelp()
+{
+	std::string help;
+	for (const KindEntry& e : kindCatalog()) help += std::string("\n  ") + e.name + std::string(24 - std::string(e.name).size(), ' ') + e.help;
+	return help;
+}
+
+SolverChoice solverOf(Kind kind)
 {
 	switch (kind)
 	{
-		case Kind::Stock: return "stock";
-		case Kind::Generic6Dof2: return "6dof2";
-		case Kind::Quaternion: return "quaternion";
-		case Kind::QuaternionStabilized: return "quaternion+stab";
-		case Kind::MultiBody: return "multibody";
-		case Kind::QuaternionStabilizedEnergy: return "quaternion+stab+energy";
-		case Kind::StockStabilized: return "stock+stab";
-		case Kind::Generic6Dof2Stabilized: return "6dof2+stab";
+		case Kind::StockMLCP:
+		case Kind::QuaternionMLCP: return SolverChoice::MLCPDantzig;
+		case Kind::StockNNCG:
+		case Kind::QuaternionNNCG: return SolverChoice::NNCG;
+		case Kind::MultiBody:
+		case Kind::MultiBodyDamped: return SolverChoice::MultiBody;
+		default: return SolverChoice::SequentialImpulse;
 	}
+}
+
+std::string kindName(Kind kind)
+{
+	for (const KindEntry& e : kindCatalog())
+		if (e.kind == kind) return e.name;
 	return "?";
 }
 
 Kind parseKind(const std::string& name)
 {
-	for (Kind k : allKinds())
-		if (kindName(k) == name) return k;
-	if (name == kindName(Kind::QuaternionStabilizedEnergy)) return Kind::QuaternionStabilizedEnergy;
-	throw std::invalid_argument("parseKind: kind: unknown joint kind '" + name +
-								"' (stock, 6dof2, quaternion, quaternion+stab, multibody, stock+stab, 6dof2+stab, "
-								"quaternion+stab+energy)");
+	std::string names;
+	for (const KindEntry& e : kindCatalog())
+	{
+		if (name == e.name) return e.kind;
+		names += std::string(names.empty() ? "" : ", ") + e.name;
+	}
+	throw std::invalid_argument("parseKind: kind: unknown joint kind '" + name + "' (" + names + ")");
 }
 
 }  // namespace scenes

@@ -29,9 +29,35 @@ enum class Kind
 	QuaternionStabilizedEnergy,
 	StockStabilized,         ///< btHingeConstraint + btQuaternionHingeStabilizer (no class swapped)
 	Generic6Dof2Stabilized,  ///< the 6dof2 kind's joints + btQuaternionHingeStabilizer (no class swapped)
+	// The peers (docs/PEERS.md): Bullet's other solvers, and btMultiBody with its default damping. Not among allKinds().
+	StockMLCP,        ///< btHingeConstraint, btMLCPSolver + btDantzigSolver (a direct solve; capped: kMlcpMaxRows)
+	StockNNCG,        ///< btHingeConstraint, btNNCGConstraintSolver
+	QuaternionMLCP,   ///< btQuaternionHingeConstraint, btMLCPSolver + btDantzigSolver
+	QuaternionNNCG,   ///< btQuaternionHingeConstraint, btNNCGConstraintSolver
+	MultiBodyDamped,  ///< MultiBody with btMultiBody's default linear and angular damping (0.04)
 };
 std::vector<Kind> allKinds();
+/// The peers a Bullet user could pick instead (docs/PEERS.md), beside allKinds(): stock and the quaternion hinge
+/// under btMLCPSolver (Dantzig) and btNNCGConstraintSolver, and the damped multibody.
+std::vector<Kind> peerKinds();
 std::string kindName(Kind kind);
+/// One line per kind, "name  what it is" (quathinge-compare --help), in the order of kindCatalog().
+std::string kindsHelp();
+/// Which solver a kind's world runs (Simulation.cpp).
+enum class SolverChoice
+{
+	SequentialImpulse,  ///< btSequentialImpulseConstraintSolver (the maximal-coordinate kinds' default)
+	MLCPDantzig,        ///< btMLCPSolver with btDantzigSolver; falls back to sequential impulse when Dantzig fails
+	NNCG,               ///< btNNCGConstraintSolver
+	MultiBody           ///< btMultiBodyConstraintSolver in a btMultiBodyDynamicsWorld
+};
+SolverChoice solverOf(Kind kind);
+/// Dantzig's cost grows as n³ in the rows n of one solved group: the MLCP kinds refuse (skip, saying so) a scene
+/// with more compared hinge rows than this (5 per hinge, 6 per slider).
+constexpr int kMlcpMaxRows = 200;
+/// btMultiBody's default damping (its constructor's linear and angular damping), which MultiBodyDamped keeps and
+/// MultiBody sets to 0.
+constexpr double kMultiBodyDefaultDamping = 0.04;
 /// Throws std::invalid_argument naming the unknown kind.
 Kind parseKind(const std::string& name);
 
@@ -56,6 +82,9 @@ struct RunSettings
 	std::function<void(btDiscreteDynamicsWorld&)> prepare;
 	/// Called after every step with the measured joints (the sweep's swing-rate statistics); not for the reference.
 	std::function<void(const std::vector<MeasuredJoint>&)> afterStep;
+	/// A common reference trajectory (Reference.h, written by the double build's --write-reference): when set, the
+	/// trajectory error is measured against it over its horizon instead of the fine-step reference.
+	std::string referenceFile;
 };
 
 /// The fine-step reference trajectory: the scene with `kind` at dt/16 and 100 iterations, every body's position after
@@ -74,7 +103,7 @@ struct SeriesPoint
 /// energy they could exchange across the scene; extent: the largest distance between two bodies at the start) plus
 /// the initial kinetic energy. No drive, contact, spin or flipped start in the library gains more than 3× it
 /// (maxEnergyGain in the report), so 10× is a runaway: joints spinning ever faster while they stay on their manifold
-/// (btMultiBody's explicit integrator at 60 Hz in the 3-D chains and the rotor).
+/// (undamped btMultiBody at 60 Hz on chain30 and the 1:100 load: docs/PEERS.md).
 constexpr double kRunawayEnergyGain = 10;  ///< × energy scale
 constexpr double kEnergyScaleGravity = 10;  ///< m/s², the least gravity the energy scale assumes
 constexpr double kRunawaySpeed = 1e4;       ///< m/s, a body's centre of mass
@@ -112,6 +141,10 @@ struct Metrics
 	int steps = 0;
 	long rssFirstKb = -1;                ///< resident memory at the first sample (kB), soak runs
 	long rssLastKb = -1;                 ///< resident memory at the last sample (kB)
+	int mlcpFallbacks = -1;              ///< btMLCPSolver::getNumFallbacks() at the end (MLCP kinds), else −1
+	/// m, RunSettings::referenceFile's horizon: the largest RMS over bodies of |position − reference| at its samples
+	double referenceError = -1;
+	double referenceHorizon = -1;        ///< s
 	std::vector<SeriesPoint> series;
 };
 

@@ -1,6 +1,7 @@
 // Running a scene with one kind (runScene, JointKinds.h): stepping its Simulation, measuring every step against
 // the references (fine-step, another build's, the exact period), and the fine-step reference trajectory itself.
 #include "JointKinds.h"
+#include "Reference.h"
 #include "Simulation.h"
 
 #include <btBulletDynamicsCommon.h>
@@ -143,6 +144,27 @@ Metrics runScene(const SceneSpec& scene, Kind kind, const RunSettings& settings)
 		useExternal = false;  // said in the results instead of a trajectory error
 		externalFailure = e.what();
 	}
+	// the common reference (Reference.h): its samples land on every perSample-th step
+	ReferenceTrajectory common;
+	long perSample = 0;
+	std::string commonFailure;
+	if (!settings.referenceFile.empty()) try
+	{
+		common = readReference(settings.referenceFile);
+		const double ratio = common.sampleDt / settings.dt;
+		perSample = std::lround(ratio);
+		if (perSample < 1 || std::fabs(ratio - double(perSample)) > 1e-6 * ratio)
+			throw std::runtime_error("its sample interval is no whole number of steps of dt");
+		if (common.samples.front().size() != 3 * sim->bodies.size())
+			throw std::runtime_error("it has another number of bodies");
+		m.referenceHorizon = common.horizon;
+		m.referenceError = 0;
+	}
+	catch (const std::exception& e)
+	{
+		perSample = 0;
+		commonFailure = e.what();
+	}
 	const double e0 = sim->energy();
 	// energy scale: the potential energy a body could exchange over the scene's size, plus the initial kinetic energy;
 	// gravity counts as at least kEnergyScaleGravity, so a weightless scene at rest (the flipped starts) still has one
@@ -243,6 +265,13 @@ Metrics runScene(const SceneSpec& scene, Kind kind, const RunSettings& settings)
 			sumTraj2 += err * err;
 			maxTraj = std::max(maxTraj, err);
 		}
+		if (perSample > 0 && i % perSample == 0 && size_t(i / perSample) <= common.samples.size())
+		{
+			std::vector<double> here;
+			for (const btVector3& p : sim->positions())
+				for (int c = 0; c < 3; ++c) here.push_back(double(p[c]));
+			m.referenceError = std::max(m.referenceError, trajectoryDistance({here}, {common.samples[size_t(i / perSample - 1)]}, 1));
+		}
 		if (settings.series) m.series.push_back({t, stepSep, stepMis, e});
 		if (settings.memoryEvery > 0 && i % settings.memoryEvery == 0)
 		{
@@ -282,6 +311,14 @@ Metrics runScene(const SceneSpec& scene, Kind kind, const RunSettings& settings)
 	}
 	else
 		m.reference = scene.reference == Reference::None ? "none (contacts, or a start off the hinge: no fixed answer)" : "not run (--no-reference)";
+	if (!commonFailure.empty()) m.reference = "failed: " + settings.referenceFile + ": " + commonFailure;
+	else if (perSample > 0)
+	{
+		m.reference = "common reference " + common.kind + ", " + common.precision + ", dt " + std::to_string(common.step) +
+					  ", over " + std::to_string(common.horizon) + " s";
+		if (m.blewUp || m.steps * settings.dt < common.horizon - 1e-9) m.referenceError = -1;  // not over the horizon
+	}
+	m.mlcpFallbacks = sim->mlcpFallbacks();
 	m.wallPerSimSecond = m.steps ? wall / (m.steps * settings.dt) : 0;
 	m.cpuPerSimSecond = m.steps ? cpu / (m.steps * settings.dt) : 0;
 	m.rowsPerStep = m.steps ? double(rows) / m.steps : 0;

@@ -13,6 +13,9 @@
 #include "BulletDynamics/Featherstone/btMultiBodyConstraintSolver.h"
 #include "BulletDynamics/Featherstone/btMultiBodyDynamicsWorld.h"
 #include "BulletDynamics/Featherstone/btMultiBodyLinkCollider.h"
+#include "BulletDynamics/ConstraintSolver/btNNCGConstraintSolver.h"
+#include "BulletDynamics/MLCPSolvers/btDantzigSolver.h"
+#include "BulletDynamics/MLCPSolvers/btMLCPSolver.h"
 #ifdef QUATHINGE_HAVE_WORLD_IMPORTER
 #include <btBulletWorldImporter.h>
 #endif
@@ -111,7 +114,7 @@ void Simulation::addSlider(const SliderSpec& s, btRigidBody& a, btRigidBody& b)
 	const btTransform fa = a.getCenterOfMassTransform().inverse() * frame;
 	const btTransform fb = b.getCenterOfMassTransform().inverse() * frame;
 	sliders.push_back(MeasuredJoint{&a, &b, fa, fb});
-	if (m_kind == Kind::MultiBody) return;
+	if (m_multiBody) return;
 	auto* d = new btGeneric6DofSpring2Constraint(a, b, fa, fb, RO_XYZ);
 	d->setLinearLowerLimit(btVector3(s.hasLimit ? s.lower : btScalar(1), 0, 0));  // x free: lower > upper
 	d->setLinearUpperLimit(btVector3(s.hasLimit ? s.upper : btScalar(-1), 0, 0));
@@ -123,23 +126,35 @@ void Simulation::addSlider(const SliderSpec& s, btRigidBody& a, btRigidBody& b)
 
 Simulation::Simulation(const SceneSpec& scene, Kind kind)
 	: m_kind(kind),
+	  m_multiBody(solverOf(kind) == SolverChoice::MultiBody),
 	  m_factory(jointFactory(kind)),
 	  m_gravity(scene.gravity),
 	  m_config(new btDefaultCollisionConfiguration),
 	  m_dispatcher(new btCollisionDispatcher(m_config.get())),
 	  m_broadphase(new btDbvtBroadphase)
 {
-	if (kind == Kind::MultiBody)
+	if (m_multiBody)
 	{
 		if (!scene.bulletFile.empty()) throw std::runtime_error("multibody: a loaded .bullet scene has no tree description");
-		if (!isTree(scene)) throw std::runtime_error("multibody: scene has a closed loop");
 		auto* solver = new btMultiBodyConstraintSolver;
 		m_solver.reset(solver);
 		m_world.reset(new btMultiBodyDynamicsWorld(m_dispatcher.get(), m_broadphase.get(), solver, m_config.get()));
 	}
+	else if (solverOf(kind) == SolverChoice::MLCPDantzig)
+	{
+		// Dantzig's pivoting is O(n³) in a group's rows n: refused past kMlcpMaxRows (said in the skipped column)
+		const size_t rows = 5 * scene.joints.size() + 6 * scene.sliders.size();
+		if (!scene.bulletFile.empty() || rows > size_t(kMlcpMaxRows))
+			throw std::runtime_error("mlcp: " + (scene.bulletFile.empty() ? std::to_string(rows) : std::string("a loaded file's")) +
+									 " rows: past the Dantzig cap of " + std::to_string(kMlcpMaxRows) + " rows (O(n^3))");
+		m_dantzig.reset(new btDantzigSolver);
+		m_solver.reset(new btMLCPSolver(m_dantzig.get()));
+		m_world.reset(new btDiscreteDynamicsWorld(m_dispatcher.get(), m_broadphase.get(), m_solver.get(), m_config.get()));
+	}
 	else
 	{
-		m_solver.reset(new btSequentialImpulseConstraintSolver);
+		if (solverOf(kind) == SolverChoice::NNCG) m_solver.reset(new btNNCGConstraintSolver);
+		else m_solver.reset(new btSequentialImpulseConstraintSolver);
 		m_world.reset(new btDiscreteDynamicsWorld(m_dispatcher.get(), m_broadphase.get(), m_solver.get(), m_config.get()));
 	}
 	m_world->setGravity(scene.gravity);
@@ -181,14 +196,14 @@ Simulation::Simulation(const SceneSpec& scene, Kind kind)
 			body->setLinearVelocity(spec.linearVelocity);
 			body->setAngularVelocity(spec.angularVelocity);
 			if (!scene.allowSleep) body->setActivationState(DISABLE_DEACTIVATION);
-			if (kind != Kind::MultiBody)
+			if (!m_multiBody)
 			{
 				if (spec.collides) m_world->addRigidBody(body);
 				else m_world->addRigidBody(body, 0, 0);  // no contacts
 			}
 			bodies.push_back(body);
 		}
-		if (kind == Kind::MultiBody)
+		if (m_multiBody)
 		{
 			buildMultiBodies(scene, anchor);
 			for (const JointSpec& j : scene.joints)
@@ -207,7 +222,7 @@ Simulation::Simulation(const SceneSpec& scene, Kind kind)
 		}
 		for (const JointSpec& j : scene.joints)
 		{
-			if (kind == Kind::MultiBody) break;
+			if (m_multiBody) break;
 			btRigidBody& a = j.parent < 0 ? *anchor : *bodies[size_t(j.parent)];
 			btRigidBody& b = *bodies[size_t(j.child)];
 			const btTransform frame = jointFrame(j.pivot, j.axis);
@@ -328,7 +343,7 @@ void Simulation::step(double dt, int iterations)
 	for (const auto& update : m_beforeStep) update(btScalar(dt));
 	m_world->getSolverInfo().m_numIterations = iterations;
 	m_world->stepSimulation(btScalar(dt), 0, btScalar(dt));
-	if (m_kind == Kind::MultiBody) syncProxies();
+	if (m_multiBody) syncProxies();
 }
 
 int Simulation::rows()
@@ -367,6 +382,12 @@ double Simulation::energy() const
 			 m * double(m_gravity.dot(b->getCenterOfMassPosition()));
 	}
 	return e;
+}
+
+int Simulation::mlcpFallbacks() const
+{
+	const auto* mlcp = dynamic_cast<const btMLCPSolver*>(m_solver.get());
+	return mlcp ? mlcp->getNumFallbacks() : -1;
 }
 
 bool Simulation::finiteAndBounded() const

@@ -20,6 +20,7 @@ class btMultiBodyConstraint;
 class btMultiBodyLinkCollider;
 class btBulletWorldImporter;
 class btQuaternionHingeStabilizer;
+class btMLCPSolverInterface;
 
 namespace quathinge
 {
@@ -72,8 +73,8 @@ double measureSliderSeparation(const MeasuredJoint& j);
 void trackTheta(MeasuredJoint& j);
 
 /// A world with one kind of joint in it: the scene's bodies, and its joints from the kind's factory (JointFactory.h)
-/// or, for the multibody kind, btMultiBody trees. Throws std::runtime_error for a scene the kind cannot build (multibody:
-/// loops, misaligned starts, .bullet files).
+/// or, for the multibody kinds, btMultiBody trees (loops closed by btMultiBodyPoint2Point). Throws std::runtime_error for
+/// a scene the kind cannot build (multibody: misaligned starts, .bullet files; MLCP: past kMlcpMaxRows).
 class Simulation
 {
 public:
@@ -87,6 +88,11 @@ public:
 	int rows();
 	double energy() const;
 	bool finiteAndBounded() const;
+	/// btMultiBody::setMaxCoordinateVelocity on every multibody (its constructor clamps joint rates at 100 rad/s; the
+	/// common reference lifts the clamp, Reference.h). No effect on the maximal-coordinate kinds.
+	void setMaxCoordinateVelocity(double rate);
+	/// btMLCPSolver::getNumFallbacks(): the solves Dantzig failed and sequential impulse redid; −1 for other solvers.
+	int mlcpFallbacks() const;
 	std::vector<btVector3> positions() const;
 	/// The world (for the benchmark's counters: contacts, constraints).
 	btDiscreteDynamicsWorld& world() { return *m_world; }
@@ -104,11 +110,13 @@ private:
 	void addSlider(const SliderSpec& s, btRigidBody& a, btRigidBody& b);
 	void syncProxies();
 	Kind m_kind;
-	const JointFactory* m_factory;  // null for the multibody kind
+	bool m_multiBody;               // a multibody kind (solverOf)
+	const JointFactory* m_factory;  // null for the multibody kinds
 	btVector3 m_gravity;
 	std::unique_ptr<btDefaultCollisionConfiguration> m_config;
 	std::unique_ptr<btCollisionDispatcher> m_dispatcher;
 	std::unique_ptr<btDbvtBroadphase> m_broadphase;
+	std::unique_ptr<btMLCPSolverInterface> m_dantzig;  // the MLCP kinds' direct solver (m_solver uses it)
 	std::unique_ptr<btConstraintSolver> m_solver;
 	std::unique_ptr<btDiscreteDynamicsWorld> m_world;
 	// Multibody kind: the multibodies, their constraints and colliders, and for each scene body a proxy rigid body

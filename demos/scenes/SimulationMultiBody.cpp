@@ -1,6 +1,7 @@
-// The multibody kind (Kind::MultiBody): a scene's trees as btMultiBody revolute joints (Featherstone, reduced
-// coordinates) — its sliders as prismatic joints, as pybullet's default URDF import builds them — and the proxy rigid
-// bodies that mirror their links for the metrics.
+// The multibody kinds (Kind::MultiBody, Kind::MultiBodyDamped): a scene's trees as btMultiBody revolute joints
+// (Featherstone, reduced coordinates) — its sliders as prismatic joints, as pybullet's default URDF import builds
+// them — its loops closed by btMultiBodyPoint2Point (as pybullet's createConstraint(JOINT_POINT2POINT) closes them),
+// and the proxy rigid bodies that mirror their links for the metrics.
 #include "Simulation.h"
 
 #include <btBulletDynamicsCommon.h>
@@ -10,6 +11,7 @@
 #include "BulletDynamics/Featherstone/btMultiBodyJointLimitConstraint.h"
 #include "BulletDynamics/Featherstone/btMultiBodyJointMotor.h"
 #include "BulletDynamics/Featherstone/btMultiBodyLinkCollider.h"
+#include "BulletDynamics/Featherstone/btMultiBodyPoint2Point.h"
 
 #include <stdexcept>
 #include <vector>
@@ -40,9 +42,27 @@ void Simulation::buildMultiBodies(const SceneSpec& scene, btRigidBody* anchor)
 		prismatic.push_back(true);
 	}
 	const int n = int(scene.bodies.size());
+	// A joint that joins two bodies already connected (union-find over the world, −1, and the bodies) closes a loop:
+	// it is no link of the tree but a btMultiBodyPoint2Point at its pivot (its axis held by the tree, as in a planar
+	// linkage; a point-to-point closure frees a closing hinge's axis otherwise).
+	std::vector<int> group(size_t(n + 1));
+	for (int i = 0; i <= n; ++i) group[size_t(i)] = i;
+	auto find = [&group](int body) {
+		int g = body + 1;
+		while (group[size_t(g)] != g) g = group[size_t(g)] = group[size_t(group[size_t(g)])];
+		return g;
+	};
+	std::vector<bool> closing(edges.size(), false);
+	for (size_t k = 0; k < edges.size(); ++k)
+	{
+		const int a = find(edges[k].parent), b = find(edges[k].child);
+		if (a == b) closing[k] = true;
+		else group[size_t(b)] = a;
+	}
 	std::vector<int> parentJoint(size_t(n), -1);
 	for (size_t k = 0; k < edges.size(); ++k)
 	{
+		if (closing[k]) continue;
 		const JointSpec& j = edges[k];
 		const btQuaternion& tw = j.childFrameTwist;
 		if (btFabs(tw.x()) > SIMD_EPSILON || btFabs(tw.y()) > SIMD_EPSILON || !j.childPivotOffset.isZero())
@@ -66,8 +86,8 @@ void Simulation::buildMultiBodies(const SceneSpec& scene, btRigidBody* anchor)
 		{
 			std::vector<int> next;
 			for (int parent : frontier)
-				for (const JointSpec& j : edges)
-					if (j.parent == parent && !placed[size_t(j.child)])
+				for (size_t k = 0; k < edges.size(); ++k)
+					if (const JointSpec& j = edges[k]; !closing[k] && j.parent == parent && !placed[size_t(j.child)])
 					{
 						placed[size_t(j.child)] = true;
 						order.push_back(j.child);
@@ -115,8 +135,11 @@ void Simulation::buildMultiBodies(const SceneSpec& scene, btRigidBody* anchor)
 			mb->setBaseVel(baseSpec->linearVelocity);
 			mb->setBaseOmega(baseSpec->angularVelocity);
 		}
-		mb->setLinearDamping(0);
-		mb->setAngularDamping(0);
+		if (m_kind == Kind::MultiBody)  // MultiBodyDamped keeps the constructor's kMultiBodyDefaultDamping
+		{
+			mb->setLinearDamping(0);
+			mb->setAngularDamping(0);
+		}
 		mb->setHasSelfCollision(false);
 		// joint angles: θ starts at the child frame's twist about the axis (q = θ − φ); rates from the body velocities
 		for (size_t i = 0; i < order.size(); ++i)
@@ -181,12 +204,36 @@ void Simulation::buildMultiBodies(const SceneSpec& scene, btRigidBody* anchor)
 		}
 		mbWorld->addMultiBody(mb);
 	}
+	// the loops' closing joints: a point-to-point constraint at the pivot, between the child's link and the parent's
+	// link (or the world point)
+	for (size_t k = 0; k < edges.size(); ++k)
+	{
+		if (!closing[k]) continue;
+		const JointSpec& j = edges[k];
+		const LinkRef child = m_proxyOf[size_t(j.child)];
+		if (!child.mb) throw std::runtime_error("multibody: a loop closes on a body outside every tree");
+		const btVector3 pivotInChild = scene.bodies[size_t(j.child)].pose.inverse() * j.pivot;
+		if (j.parent < 0)
+			m_mbConstraints.emplace_back(new btMultiBodyPoint2Point(child.mb, child.link, nullptr, pivotInChild, j.pivot));
+		else
+		{
+			const LinkRef parent = m_proxyOf[size_t(j.parent)];
+			m_mbConstraints.emplace_back(new btMultiBodyPoint2Point(child.mb, child.link, parent.mb, parent.link, pivotInChild,
+																	scene.bodies[size_t(j.parent)].pose.inverse() * j.pivot));
+		}
+		m_mbRows += 3;
+	}
 	for (auto& c : m_mbConstraints)
 	{
 		c->finalizeMultiDof();  // allocates the constraint's Jacobians (not done by its constructor)
 		mbWorld->addMultiBodyConstraint(c.get());
 	}
 	syncProxies();
+}
+
+void Simulation::setMaxCoordinateVelocity(double rate)
+{
+	for (auto& mb : m_multiBodies) mb->setMaxCoordinateVelocity(btScalar(rate));
 }
 
 void Simulation::syncProxies()

@@ -13,7 +13,6 @@
 #include "Viewer.h"
 
 #include "JointKinds.h"
-#include "KindHelp.h"
 #include "SceneSpec.h"
 
 #include <CLI/CLI.hpp>
@@ -58,8 +57,8 @@ int main(int argc, char** argv)
 	app.add_option("--size", o.width, "window width in pixels (the height is 9/16 of it)")->capture_default_str();
 	app.footer("Mouse: left drag pulls the body under the cursor (a btPoint2PointConstraint, as Bullet's example "
 			   "browser does); right drag orbits the camera; the wheel zooms. The panel sets scene, kinds, step, "
-			   "iterations, pause, single step, reset and the stabilizer's options.\n\nJoint kinds (--kinds):\n" +
-			   kindHelpText() + "\nExample: quathinge-viewer --scene chain30 --kinds stock,quaternion,quaternion+stab");
+			   "iterations, pause, single step, reset and the stabilizer's options.\n\nJoint kinds (--kinds):" +
+			   kindsHelp() + "\n\nExample: quathinge-viewer --scene chain30 --kinds stock,quaternion,quaternion+stab");
 	CLI11_PARSE(app, argc, argv);
 	o.height = o.width * 9 / 16;
 	const bool headless = !o.screenshot.empty() || !o.strip.empty();
