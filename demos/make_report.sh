@@ -36,22 +36,5 @@ thread CPU time; blow-up: the first step with a non-finite state, a body beyond 
 above its start by more than 10× the energy scale (a runaway). Full data: \`$out/\`."
 /usr/bin/python3 demos/plot_report.py --sweep "$out/sweep/results.json" --series "$out/series/results.json" \
   --table "$out/table/results.json" --images docs/images --markdown docs/images/results.md --readme docs/RESULTS.md --note "$note"
-# 4. the energy-consistent stabilizer option on the conservative scenes (docs/RESULTS.md, the energy markers)
-$compare --models "$models" -s pendulum double_pendulum chain10 heavy100 pendulum5 -d 10 \
-  -k stock quaternion quaternion+stab quaternion+stab+energy "${reference[@]}" -o "$out/energy" >"$out/energy.txt"
-/usr/bin/python3 - "$out/energy/results.json" <<'PY'
-import json, sys
-sys.path.insert(0, "demos")
-from readme_section import replace
-runs = json.load(open(sys.argv[1]))
-runs = runs.get("runs", runs) if isinstance(runs, dict) else runs
-def g(x):
-    return "–" if x is None or x == "" or (isinstance(x, (int, float)) and x < 0) else f"{x:.2g}"
-lines = ["| scene | kind | energy drift | traj. error | max sep (m) | CPU ms / sim-s |", "|---|---|---|---|---|---|"]
-for r in runs:
-    lines.append(f"| {r['scene']} | {r['kind']} | {g(r.get('energy_drift'))} | {g(r.get('trajectory_error'))} | "
-                 f"{g(r.get('max_separation_m'))} | {1e3 * r.get('cpu_per_sim_s', 0):.2f} |")
-replace("energy", "10 s at 60 Hz, 10 iterations; energy drift: max |E − E0| over the energy scale; traj. error: "
-        "relative period error (pendulum) or m against the fine-step reference.\n\n" + "\n".join(lines), "docs/RESULTS.md")
-print("\n".join(lines))
-PY
+# 4. energy: stock, bare and stabilized at 60 and 240 Hz (docs/RESULTS.md, the energy markers; docs/images/energy_60s.png)
+QUATHINGE_BUILD_DIR=$build bash demos/make_energy.sh

@@ -107,7 +107,7 @@ void recordInvariants(Island& island)
 	Island::Invariants& inv = island.invariants;
 	double kinetic = 0, mass = 0;
 	Eigen::Vector3d momentum = Eigen::Vector3d::Zero(), moment = Eigen::Vector3d::Zero();
-	bool free = true, source = false;
+	bool free = true, source = false, touching = false;
 	for (IslandBody& b : island.bodies)
 	{
 		const btRigidBody& body = *b.rigid;
@@ -119,11 +119,12 @@ void recordInvariants(Island& island)
 		momentum += m * v;
 		moment += m * x;
 		free = free && fullyFree(body);
-		if (b.contactScale != 1) source = true;  // touching something outside the island (a contact does work)
+		if (b.contactScale != 1) source = touching = true;  // touching something outside the island
 	}
 	for (const JointSlot& js : island.joints)
 	{
 		if (js.body[0] < 0 || js.body[1] < 0) free = false;  // a fixed partner (or a contact slot's fixed points)
+		if (js.contact >= 0) touching = true;  // a contact slot (projectContacts): its contact's work is its own
 		if (js.joint && js.joint->getDriveMode() != BT_QHINGE_DRIVE_OFF) source = true;
 	}
 	if (hangsOnMovingBody(island)) source = true;
@@ -132,6 +133,7 @@ void recordInvariants(Island& island)
 	inv.momentum = momentum;
 	inv.free = free && !source && mass > 0;
 	inv.source = source;
+	inv.touching = touching;
 	const Eigen::Vector3d centre = mass > 0 ? Eigen::Vector3d(moment / mass) : Eigen::Vector3d::Zero();
 	if (inv.scale == 0)  // the island's energy scale: Σ m max(|g|, 1 m/s²)(1 m + 2|x − x̄|), plus its kinetic energy
 	{
@@ -174,7 +176,8 @@ InvariantResult restoreInvariants(Island& island, ProjectionResult& result, doub
 		moment += m * toEigen(x);
 	}
 	const bool oneSided = result.activeLimitRows > 0 || result.contactRows > 0;  // a stop's or a contact's work
-	const bool energy = restoreEnergy && !oneSided && !inv.guarded && !hangsOnMovingBody(island);
+	// a contact outside the island is Bullet's solver's work (and the stop that lets a ragdoll settle): not restored
+	const bool energy = restoreEnergy && !oneSided && !inv.touching && !inv.guarded && !hangsOnMovingBody(island);
 	// (Q16) the lift of the sag the solver's leftover let happen is paid by the kinetic energy; the joints' curvature's
 	// share (measured by the position stage, ProjectionResult::curvatureLift) is not: the step's drift along the
 	// tangent left the manifold, the motion did not gain that potential energy

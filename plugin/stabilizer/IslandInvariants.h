@@ -9,8 +9,9 @@
 // cannot see (Q17, Q18); then only its deformation velocity (v' less its rigid motion, M-orthogonal to it) is scaled
 // to T* (Q19). An island held by a fixed partner has no momentum invariant: v' is scaled as a whole. What Bullet's own
 // step did (gravity, damping, motors, friction, contacts, limits, ERP, a push) is in (q, v) already: it is kept.
-// Not restored: a step in which a one-sided row (a limit, a contact: their stop's work) was projected, an island hung on
-// a moving kinematic body (it does work), and an island whose averaged energy grew by the restoration (the guard).
+// Not restored: a step in which a one-sided row (a limit, a contact: their stop's work) was projected or a body touches
+// something outside the island (a contact Bullet's solver works on), an island hung on a moving kinematic body (it
+// does work), and an island whose averaged energy grew by the restoration (the guard).
 #ifndef QUATHINGE_STABILIZER_ISLAND_INVARIANTS_H
 #define QUATHINGE_STABILIZER_ISLAND_INVARIANTS_H
 

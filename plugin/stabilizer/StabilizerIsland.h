@@ -283,6 +283,7 @@ struct Island
 		double mass = 0;                                             // kg
 		bool free = false;     // no fixed partner, nothing outside touching, every axis free: P and L are invariants
 		bool source = false;   // a drive, an outside contact or a moving partner can feed energy in
+		bool touching = false;  // a body touches something outside the island (a contact Bullet's solver works on)
 		// the guard: the energy's running average (J), its lowest value, the restoration's summed work (J) then and now
 		double scale = 0;      // J: the island's energy scale (set at its first record)
 		double average = 0, lowest = 0, workAtLowest = 0, work = 0, elapsed = 0;
