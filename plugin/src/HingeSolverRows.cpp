@@ -568,6 +568,15 @@ int btQuaternionHingeConstraint::computeFramePositionRows(const btTransform& fra
 	return framePositionRowsAt(pose, transA, transB, angularOnly, C, jacobian);
 }
 
+int btQuaternionHingeConstraint::computeFramePositionRows(const btTransform& frameInA, const btTransform& frameInB,
+														  bool angularOnly, const btTransform& transA,
+														  const btTransform& transB, btScalar* C, btScalar* jacobian)
+{
+	Pose pose;
+	framePoseAt(frameInA, frameInB, transA, transB, pose);
+	return framePositionRowsAt(pose, transA, transB, angularOnly, C, jacobian);
+}
+
 int btQuaternionHingeConstraint::framePositionRowsAt(const Pose& pose, const btTransform& transA,
 													 const btTransform& transB, bool angularOnly, btScalar* C,
 													 btScalar* jacobian)

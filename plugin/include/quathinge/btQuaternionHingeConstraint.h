@@ -343,6 +343,10 @@ public:
 										const btTransform& transA, const btTransform& transB, btScalar* C,
 										btScalar* jacobian, btScalar previousAngle, btScalar& angle,
 										btVector3& angleGradient);
+	/// The same without the angle (a hinge with no limit row: the angle's atan2 saved).
+	static int computeFramePositionRows(const btTransform& frameInA, const btTransform& frameInB, bool angularOnly,
+										const btTransform& transA, const btTransform& transB, btScalar* C,
+										btScalar* jacobian);
 
 	/// Draws the joint: pivot frames, the hinge axis and, with a limit, its arc (within one turn).
 	void debugDraw(btIDebugDraw * drawer, btScalar size = btScalar(0.3)) const;
