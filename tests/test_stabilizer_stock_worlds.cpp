@@ -305,6 +305,31 @@ TEST(StabilizerStock, FilterAndStatsSeeEveryKind)
 	chain.scene.world().removeAction(&stabilizer);
 }
 
+TEST(StabilizerStock, ManualSnippet)
+{
+	// docs/STABILIZED_JOINTS.md's snippet, as written there, on a world of a stock hinge and a 6-dof hinge.
+	MixedChain chain;
+	btDiscreteDynamicsWorld* world = &chain.scene.world();
+	// --- the snippet
+	btQuaternionHingeStabilizer stabilizer;  // defaults: every hinge kind projected
+	world->addAction(&stabilizer);           // the world's hinges, whatever their class, are held from the next step on
+	world->stepSimulation(btScalar(1) / 60);
+	const btQuaternionHingeStabilizerStats& stats = stabilizer.getLastStats();
+	// stats.stockHinges, stats.dofHinges, stats.quaternionHinges: what it held; stats.residualAfter: how well (m, rad)
+	EXPECT_EQ(stats.stockHinges, 1);
+	EXPECT_EQ(stats.dofHinges, 2);
+	EXPECT_LE(stats.residualAfter, kResidualTolerance);
+
+	btQuaternionHingeStabilizerSettings settings;
+	settings.projectDofHinges = false;         // only the btHingeConstraints (and quaternion hinges)
+	settings.projectLockedConstraints = true;  // and welds: a URDF fixed joint is a 6-dof with every axis locked
+	stabilizer.setSettings(settings);
+	world->stepSimulation(btScalar(1) / 60);
+	EXPECT_EQ(stabilizer.getLastStats().dofHinges, 0);
+	EXPECT_EQ(stabilizer.getLastStats().stockHinges, 1);
+	world->removeAction(&stabilizer);          // before the stabilizer goes
+}
+
 #ifdef QUATHINGE_HAVE_WORLD_IMPORTER
 TEST(StabilizerStock, SpiderBulletIsHeldAsLoaded)
 {

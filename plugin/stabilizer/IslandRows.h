@@ -85,7 +85,9 @@ PositionResidual evaluatePositions(BlockIsland<R>& island, btScalar tolerance)
 		btVector3 g;
 		const int rows = js.point		 ? pointPositionRows(*js.point, tA, tB, c, jac)
 						 : js.locked	 ? lockedPositionRows(*js.locked, tA, tB, c, jac)
-						 : js.frameHinge ? frameHingePositionRows(js.hinge, tA, tB, c, jac, js.angleReference, js.angle, g)
+						 : js.frameHinge ? (js.limitSlot ? frameHingePositionRows(js.hinge, tA, tB, c, jac,
+																				   js.angleReference, js.angle, g)
+														 : frameHingePositionRows(js.hinge, tA, tB, c, jac))
 						 : js.limitSlot	 ? js.joint->computePositionRows(tA, tB, c, jac, js.angleReference, js.angle, g)
 										 : js.joint->computePositionRows(tA, tB, c, jac);
 		const int linearRows = js.linearRows;

@@ -24,6 +24,8 @@
 #ifndef QUATHINGE_STABILIZER_STOCK_HINGE_ROWS_H
 #define QUATHINGE_STABILIZER_STOCK_HINGE_ROWS_H
 
+#include "quathinge/btQuaternionHingeConstraint.h"
+
 #include "LinearMath/btTransform.h"
 
 class btTypedConstraint;
@@ -62,6 +64,13 @@ FrameHingeKind readFrameHinge(const btTypedConstraint& c, bool stockHinges, bool
 /// of 12), and its limit variable v continued from previous, with its gradient: v̇ = gradient·(ω_B − ω_A).
 int frameHingePositionRows(const FrameHinge& hinge, const btTransform& transA, const btTransform& transB, btScalar* C,
 						   btScalar* jacobian, btScalar previous, btScalar& variable, btVector3& gradient);
+/// The rows alone (a hinge without a limit slot).
+inline int frameHingePositionRows(const FrameHinge& hinge, const btTransform& transA, const btTransform& transB,
+								  btScalar* C, btScalar* jacobian)
+{
+	return btQuaternionHingeConstraint::computeFramePositionRows(hinge.frameA, hinge.frameB, hinge.angularOnly, transA,
+																 transB, C, jacobian);
+}
 
 /// v at the given transforms as the joint `c` tests its limit (wrapped about the centre, or adjusted to the nearer
 /// stop): the step's first.
