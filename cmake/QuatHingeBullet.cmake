@@ -96,6 +96,9 @@ endfunction()
 # The extras of an installed Bullet: only in the core libraries' own directories, so another Bullet elsewhere is
 # never mixed in.
 function(_quathinge_make_extras_target libdirs includedirs suffix)
+  if(NOT QUATHINGE_WORLD_IMPORTER)
+    return()
+  endif()
   find_library(_importer NAMES BulletWorldImporter${suffix} PATHS ${libdirs} NO_DEFAULT_PATH NO_CACHE)
   find_library(_loader NAMES BulletFileLoader${suffix} PATHS ${libdirs} NO_DEFAULT_PATH NO_CACHE)
   find_path(_importer_include NAMES BulletWorldImporter/btBulletWorldImporter.h PATHS ${includedirs}
@@ -142,7 +145,7 @@ function(_quathinge_bullet_from_targets result)
   set(QUATHINGE_BULLET_FOUND_BY_TARGETS TRUE)
   _quathinge_make_bullet_target("${_root}/src"
     "BulletDynamics${_suffix};BulletCollision${_suffix};LinearMath${_suffix}" ${_double})
-  if(TARGET BulletWorldImporter${_suffix} AND TARGET BulletFileLoader${_suffix})
+  if(QUATHINGE_WORLD_IMPORTER AND TARGET BulletWorldImporter${_suffix} AND TARGET BulletFileLoader${_suffix})
     add_library(QuatHinge::BulletExtras INTERFACE IMPORTED GLOBAL)
     set_target_properties(QuatHinge::BulletExtras PROPERTIES
       INTERFACE_INCLUDE_DIRECTORIES
@@ -333,8 +336,12 @@ macro(quathinge_find_bullet)
     endif()
     if(TARGET QuatHinge::BulletExtras)
       set(_quathinge_extras "with its world importer (QuatHinge::BulletExtras)")
+    elseif(NOT QUATHINGE_WORLD_IMPORTER)
+      string(CONCAT _quathinge_extras "its world importer left out (QUATHINGE_WORLD_IMPORTER=OFF): no .bullet scene, and the "
+                            ".bullet import tests are not registered")
     else()
-      set(_quathinge_extras "without a world importer (BulletWorldImporter; on Debian libbullet-extras-dev): .bullet scenes are skipped")
+      string(CONCAT _quathinge_extras "without a world importer (BulletWorldImporter; on Debian libbullet-extras-dev): no .bullet "
+                            "scene, and the .bullet import tests are not registered")
     endif()
     message(STATUS "QuatHinge: Bullet ${QUATHINGE_BULLET_VERSION}, BT_USE_DOUBLE_PRECISION=${_quathinge_found_double}: "
                    "${QUATHINGE_BULLET_DESCRIPTION}; ${_quathinge_extras}")

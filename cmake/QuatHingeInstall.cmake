@@ -36,6 +36,10 @@ else()
   endforeach()
 endif()
 string(STRIP "${QUATHINGE_PC_CFLAGS}" QUATHINGE_PC_CFLAGS)
+set(_quathinge_pc_stabilizer "")   # built only with Eigen (plugin/stabilizer/CMakeLists.txt)
+if(TARGET QuatHingeStabilizer)
+  set(_quathinge_pc_stabilizer "-lQuatHingeStabilizer${_quathinge_lib_suffix} ")
+endif()
 # Relocatable: the prefix is found from the .pc file's own place (${pcfiledir}), so `cmake --install --prefix` anywhere
 # and the .deb (prefix /usr) give the right paths.
 file(RELATIVE_PATH _quathinge_pc_up "/prefix/${CMAKE_INSTALL_LIBDIR}/pkgconfig" "/prefix")
@@ -49,7 +53,7 @@ Description: Quaternion hinge constraint for Bullet (btQuaternionHingeConstraint
 Version: ${PROJECT_VERSION}
 Requires: ${QUATHINGE_PC_REQUIRES}
 Cflags: -I\${includedir} ${QUATHINGE_PC_CFLAGS}
-Libs: -L\${libdir} -lQuatHingeStabilizer${_quathinge_lib_suffix} -lQuatHinge${_quathinge_lib_suffix}${QUATHINGE_PC_BULLET_LIBS}
+Libs: -L\${libdir} ${_quathinge_pc_stabilizer}-lQuatHinge${_quathinge_lib_suffix}${QUATHINGE_PC_BULLET_LIBS}
 ")
 install(FILES ${PROJECT_BINARY_DIR}/${QUATHINGE_PC_NAME}.pc DESTINATION ${CMAKE_INSTALL_LIBDIR}/pkgconfig)
 

@@ -26,7 +26,8 @@ packages=(
   liburdfdom-dev liburdfdom-headers-dev libtinyxml2-dev  # URDF scenes
   python3 python3-matplotlib                  # report plots
   clang libclang-rt-14-dev llvm valgrind     # fuzzing (libFuzzer + sanitizer runtimes, symbolizer); memory checks
-  libglfw3-dev libimgui-dev libstb-dev xvfb   # the viewer (optional to the build) and its headless test
+  libglfw3-dev libimgui-dev libstb-dev xvfb   # the viewer (optional to the build) and its headless test;
+  xauth                                       # xvfb-run needs it, and xvfb only recommends it (no recommends here)
   doxygen clang-format-14                     # the API reference (--target docs, 1.9.4) and the format check (14)
 )
 

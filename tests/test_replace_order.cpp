@@ -97,7 +97,8 @@ TEST(SwapConstraintInWorld, KeepsThePlaceOfTheConstraintItReplaces)
 	}
 }
 
-#ifdef QUATHINGE_HAVE_SCENES
+// (spider.bullet: only with Bullet's world importer)
+#if defined(QUATHINGE_HAVE_SCENES) && defined(QUATHINGE_HAVE_WORLD_IMPORTER)
 #include "JointKinds.h"
 #include "SceneSpec.h"
 #include "support/SceneRuns.h"

@@ -1,7 +1,8 @@
 // The URDF loader reads what pybullet's importer reads (capsules, lower > upper as no limit, pybullet's limit
 // defaults, STL and OBJ meshes), refuses what it cannot represent with the file, the part and the reason, and the robots from
 // Bullet's data/ (demos/models) run with the quaternion kinds and are held by the stabilizer.
-#ifdef QUATHINGE_HAVE_SCENES
+// (registered only when built with urdfdom and tinyxml2, which are optional)
+#if defined(QUATHINGE_HAVE_SCENES) && defined(QUATHINGE_HAVE_URDF)
 #include "JointKinds.h"
 #include "SceneSpec.h"
 #include "Simulation.h"
@@ -35,11 +36,6 @@ size_t countOf(const std::string& text, const std::string& word)
 	size_t n = 0;
 	for (size_t at = text.find(word); at != std::string::npos; at = text.find(word, at + 1)) ++n;
 	return n;
-}
-
-bool builtWithUrdf()
-{
-	return makeScene("pendulum5").unavailable.rfind("built without", 0) != 0;
 }
 
 /// A folder of its own in the system's temporary directory, removed at the end.
@@ -101,7 +97,6 @@ void expectRefused(const SceneSpec& scene, const std::string& path, const std::v
 
 TEST(Urdf, HumanoidLoadsEveryCollisionShape)
 {
-	if (!builtWithUrdf()) GTEST_SKIP() << "built without urdfdom and tinyxml2 (optional libraries)";
 	const SceneSpec scene = makeScene("humanoid");
 	ASSERT_TRUE(scene.unavailable.empty()) << scene.unavailable;
 	const std::string text = readFile(defaultModelsDir() + "/humanoid.urdf");
@@ -157,7 +152,6 @@ TEST(Urdf, HumanoidLoadsEveryCollisionShape)
 
 TEST(Urdf, KukaMeshesAreConvexHulls)
 {
-	if (!builtWithUrdf()) GTEST_SKIP() << "built without urdfdom and tinyxml2 (optional libraries)";
 	const SceneSpec scene = makeScene("kuka_iiwa");
 	ASSERT_TRUE(scene.unavailable.empty()) << scene.unavailable;
 	size_t hulls = scene.worldParts.size();
@@ -173,7 +167,6 @@ TEST(Urdf, KukaMeshesAreConvexHulls)
 
 TEST(Urdf, LowerAboveUpperIsContinuous)
 {
-	if (!builtWithUrdf()) GTEST_SKIP() << "built without urdfdom and tinyxml2 (optional libraries)";
 	// Base_2.urdf writes lower="1" upper="0" on every revolute joint: URDF2Bullet reads it as no limit
 	const SceneSpec base2 = makeScene("base_2");
 	ASSERT_TRUE(base2.unavailable.empty()) << base2.unavailable;
@@ -229,7 +222,6 @@ TEST(Urdf, LowerAboveUpperIsContinuous)
 
 TEST(Urdf, APrismaticJointIsASliderThatEveryKindBuilds)
 {
-	if (!builtWithUrdf()) GTEST_SKIP() << "built without urdfdom and tinyxml2 (optional libraries)";
 	// base (the world) → arm, hinged about x, hanging along −z → finger, sliding along the arm (z) as a gripper's
 	// finger does (panda.urdf, r2d2.urdf); pybullet loads such a file, and so must the scene library. The
 	// maximal-coordinate kinds build the slider alike (a 6-dof constraint); the multibody kind, a prismatic link
@@ -299,7 +291,6 @@ TEST(Urdf, APrismaticJointIsASliderThatEveryKindBuilds)
 
 TEST(Urdf, RefusesWhatItCannotRepresent)
 {
-	if (!builtWithUrdf()) GTEST_SKIP() << "built without urdfdom and tinyxml2 (optional libraries)";
 	TempDir dir;
 	struct Case
 	{
@@ -363,7 +354,6 @@ TEST(Urdf, RefusesWhatItCannotRepresent)
 
 TEST(Urdf, BulletRobotsRunWithTheQuaternionKinds)
 {
-	if (!builtWithUrdf()) GTEST_SKIP() << "built without urdfdom and tinyxml2 (optional libraries)";
 	// 3 s at 60 Hz, 10 iterations (the default settings): every robot that stock runs runs with the quaternion kinds
 	// and the stabilizer holds it
 	RunSettings settings;

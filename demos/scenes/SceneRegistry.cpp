@@ -60,12 +60,22 @@ void appendChain(SceneSpec& scene, int links, btScalar length, btScalar mass, co
 
 std::vector<std::string> sceneNames()
 {
-	return {"pendulum",      "chain10",       "chain30",         "chain100",       "heavy10",  "heavy100",
-			"heavy1000",     "heavy10000",    "double_pendulum", "rotor100",       "rotor1000", "flipped90",
-			"flipped179",    "flipped180",    "limit_hit",       "limit_across_pi", "limit_wide", "motor_lift",
-			"four_bar",      "ragdoll",       "spider",          "kuka_iiwa",      "pendulum5", "humanoid",
-			"base_2",        "quadruped",     "two_joint_robot", "minitaur",      "r2d2",     "panda",
-			"inertia_ratio", "rest500",       "rest500_asleep"};
+	// the scenes this build can make: the .bullet scene needs Bullet's world importer, the URDF robots urdfdom and
+	// tinyxml2 (both optional; configure says which are left out)
+	std::vector<std::string> names = {"pendulum",  "chain10",         "chain30",   "chain100",        "heavy10",
+									  "heavy100",  "heavy1000",       "heavy10000", "double_pendulum", "rotor100",
+									  "rotor1000", "flipped90",       "flipped179", "flipped180",      "limit_hit",
+									  "limit_across_pi", "limit_wide", "motor_lift", "four_bar",        "ragdoll"};
+#ifdef QUATHINGE_HAVE_WORLD_IMPORTER
+	names.push_back("spider");
+#endif
+#ifdef QUATHINGE_HAVE_URDFDOM
+	for (const char* robot : {"kuka_iiwa", "pendulum5", "humanoid", "base_2", "quadruped", "two_joint_robot", "minitaur",
+							  "r2d2", "panda"})
+		names.push_back(robot);
+#endif
+	for (const char* name : {"inertia_ratio", "rest500", "rest500_asleep"}) names.push_back(name);
+	return names;
 }
 
 std::string defaultModelsDir()

@@ -283,7 +283,7 @@ int btQuaternionHingeConstraint::fillBilateralRows(btConstraintInfo2* info, cons
 			if (error) *error -= cu * errorU + cv * errorV;
 		};
 		// Point row i along e; written out for each of the three (always inlined: the tests on i fold away).
-		auto pointRow = [&](int i, const Lanes& e) __attribute__((always_inline)) {
+		auto pointRow = [&](int i, const Lanes& e) QUATHINGE_ALWAYS_INLINE {
 			const int at = row * skip;
 			Lanes angularA = crossLanes(e, rA), angularB = crossLanes(rB, e);
 			btScalar error = -errorScale(kLinearKind + i) * dotXyz(e, c);

@@ -1,23 +1,23 @@
-// 3×3 products row by row in SIMD lanes (GCC/Clang vector extensions), with the bits of btMatrix3x3's scalar
-// products: Bullet's Debian build has no SSE in its API, so btMatrix3x3::operator* and transposeTimes form every entry
-// as a three-term dot product, which the compiler schedules one scalar at a time. Entry (i, c) of m1·m2 is
-// m1[i][0]·m2[0][c] + m1[i][1]·m2[1][c] + m1[i][2]·m2[2][c], summed left to right; a row of the product is therefore
-// m1[i][0]·m2[0] + m1[i][1]·m2[1] + m1[i][2]·m2[2] lane by lane, the same products added in the same order (x86-64
-// without -march has no FMA to contract them into), so every entry has the same bits as Bullet's. A btVector3 holds four
-// lanes; the fourth is padding (zero in every matrix Bullet builds) and is carried along, never read back.
+// 3×3 products row by row in SIMD lanes, with the bits of btMatrix3x3's scalar products: Bullet's Debian build has no
+// SSE in its API, so btMatrix3x3::operator* and transposeTimes form every entry as a three-term dot product, which the
+// compiler schedules one scalar at a time. Entry (i, c) of m1·m2 is m1[i][0]·m2[0][c] + m1[i][1]·m2[1][c] +
+// m1[i][2]·m2[2][c], summed left to right; a row of the product is therefore m1[i][0]·m2[0] + m1[i][1]·m2[1] +
+// m1[i][2]·m2[2] lane by lane, the same products added in the same order (x86-64 without -march has no FMA to contract
+// them into), so every entry has the same bits as Bullet's. A btVector3 holds four lanes; the fourth is padding (zero
+// in every matrix Bullet builds) and is carried along, never read back.
+// Lanes is a GCC/Clang vector type where QUATHINGE_HAVE_VECTOR_EXTENSIONS (CompilerExtensions.h), else a standard
+// struct of four btScalars whose operators do the same IEEE operations lane by lane: the same bits either way.
 #ifndef QUATHINGE_MATRIX_LANES_H
 #define QUATHINGE_MATRIX_LANES_H
 
-#if !defined(__GNUC__)  // GCC and Clang both define it
-#error "QuatHinge's row code uses GCC/Clang vector extensions (__attribute__((vector_size)), __builtin_shufflevector): build it with GCC 12 or later, or Clang"
-#endif
-
+#include "CompilerExtensions.h"
 #include "LinearMath/btMatrix3x3.h"
 
 #include <cstdint>
 #include <cstring>
 #include <type_traits>
 
+#if QUATHINGE_HAVE_VECTOR_EXTENSIONS
 // With double-precision Bullet a Lanes value is 32 bytes, which GCC and Clang warn changes the calling convention
 // without AVX (-Wpsabi), at these helpers and at every call that passes one. They are inline and this header is
 // internal to the library (plugin/src only), so no call crosses an ABI boundary: the warning is off for the files
@@ -26,13 +26,72 @@
 #if __has_warning("-Wpsabi")
 #pragma clang diagnostic ignored "-Wpsabi"
 #endif
-#elif defined(__GNUC__)
+#else
 #pragma GCC diagnostic ignored "-Wpsabi"
+#endif
 #endif
 
 namespace quathinge
 {
+/// Integer lanes of the same width, for bit masks.
+typedef std::conditional<sizeof(btScalar) == 4, std::int32_t, std::int64_t>::type LaneInt;
+
+#if QUATHINGE_HAVE_VECTOR_EXTENSIONS
 typedef btScalar Lanes __attribute__((vector_size(4 * sizeof(btScalar))));
+typedef LaneInt LaneBits __attribute__((vector_size(4 * sizeof(btScalar))));
+#else
+/// Four btScalars; + − × lane by lane, × by a scalar on every lane (the vector type's operators, the same operations).
+struct Lanes
+{
+	btScalar lane[4];
+	btScalar& operator[](int i) { return lane[i]; }
+	const btScalar& operator[](int i) const { return lane[i]; }
+	Lanes& operator+=(const Lanes& b)
+	{
+		for (int i = 0; i < 4; ++i) lane[i] += b.lane[i];
+		return *this;
+	}
+	Lanes& operator-=(const Lanes& b)
+	{
+		for (int i = 0; i < 4; ++i) lane[i] -= b.lane[i];
+		return *this;
+	}
+	Lanes& operator*=(btScalar s)
+	{
+		for (int i = 0; i < 4; ++i) lane[i] *= s;
+		return *this;
+	}
+};
+inline Lanes operator+(Lanes a, const Lanes& b) { return a += b; }
+inline Lanes operator-(Lanes a, const Lanes& b) { return a -= b; }
+inline Lanes operator-(const Lanes& a) { return {{-a.lane[0], -a.lane[1], -a.lane[2], -a.lane[3]}}; }
+inline Lanes operator*(const Lanes& a, const Lanes& b)
+{
+	return {{a.lane[0] * b.lane[0], a.lane[1] * b.lane[1], a.lane[2] * b.lane[2], a.lane[3] * b.lane[3]}};
+}
+inline Lanes operator*(const Lanes& a, btScalar s)
+{
+	return {{a.lane[0] * s, a.lane[1] * s, a.lane[2] * s, a.lane[3] * s}};
+}
+inline Lanes operator*(btScalar s, const Lanes& a)
+{
+	return {{s * a.lane[0], s * a.lane[1], s * a.lane[2], s * a.lane[3]}};
+}
+
+/// The bits of lane i (memcpy: no aliasing through another type).
+inline LaneInt laneBits(const Lanes& l, int i)
+{
+	LaneInt bits;
+	std::memcpy(&bits, &l.lane[i], sizeof bits);
+	return bits;
+}
+inline btScalar scalarOfBits(LaneInt bits)
+{
+	btScalar value;
+	std::memcpy(&value, &bits, sizeof value);
+	return value;
+}
+#endif
 
 inline Lanes lanesOf(const btVector3& v)
 {
@@ -43,16 +102,18 @@ inline Lanes lanesOf(const btVector3& v)
 
 inline void storeLanes(btVector3& v, const Lanes& l) { std::memcpy(v.m_floats, &l, sizeof l); }
 
-/// Integer lanes of the same width, for bit masks.
-typedef std::conditional<sizeof(btScalar) == 4, std::int32_t, std::int64_t>::type LaneInt;
-typedef LaneInt LaneBits __attribute__((vector_size(4 * sizeof(btScalar))));
-
 /// (|x|, |y|, |z|, 0): the sign bits and the padding lane cleared (whatever the padding holds, even NaN).
 inline Lanes absXyz(const btVector3& v)
 {
 	const LaneInt magnitude = ~(LaneInt(1) << (8 * sizeof(btScalar) - 1));
+#if QUATHINGE_HAVE_VECTOR_EXTENSIONS
 	const LaneBits mask = {magnitude, magnitude, magnitude, 0};
 	return (Lanes)((LaneBits)lanesOf(v) & mask);
+#else
+	const Lanes l = lanesOf(v);
+	return {{scalarOfBits(laneBits(l, 0) & magnitude), scalarOfBits(laneBits(l, 1) & magnitude),
+			 scalarOfBits(laneBits(l, 2) & magnitude), btScalar(0)}};
+#endif
 }
 
 /// The smallest magnitude a Jacobian entry keeps with float Bullet: 2^-40 = 9.1e-13 (metres for a lever arm, a plain
@@ -76,9 +137,19 @@ inline Lanes flushRoundOff(const Lanes& l)
 	const btScalar smallestValue = btScalar(kSmallestRowEntry);
 	LaneInt smallest;
 	std::memcpy(&smallest, &smallestValue, sizeof smallest);
+#if QUATHINGE_HAVE_VECTOR_EXTENSIONS
 	const LaneBits bits = (LaneBits)l;
 	const LaneBits keep = (bits & ~sign) >= smallest;  // −1 where kept, 0 where flushed
 	return (Lanes)(bits & (keep | sign));
+#else
+	Lanes out;
+	for (int i = 0; i < 4; ++i)
+	{
+		const LaneInt bits = laneBits(l, i);
+		out.lane[i] = scalarOfBits((bits & ~sign) >= smallest ? bits : bits & sign);
+	}
+	return out;
+#endif
 }
 
 /// The first three lanes into d[0..2] (a row of the solver's arrays: its fourth entry is not the joint's to write),
@@ -106,8 +177,12 @@ inline void storeXyzNegatedAndAsIs(btScalar* first, btScalar* second, const Lane
 /// a × b (btVector3::cross's bits: lane i is the same two products subtracted).
 inline Lanes crossLanes(const Lanes& a, const Lanes& b)
 {
+#if QUATHINGE_HAVE_VECTOR_EXTENSIONS
 	return __builtin_shufflevector(a, a, 1, 2, 0, 3) * __builtin_shufflevector(b, b, 2, 0, 1, 3) -
 		   __builtin_shufflevector(a, a, 2, 0, 1, 3) * __builtin_shufflevector(b, b, 1, 2, 0, 3);
+#else
+	return {{a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0], a[3] * b[3] - a[3] * b[3]}};
+#endif
 }
 
 /// a · b over the first three lanes (btVector3::dot's bits: x + y, then + z).
@@ -117,12 +192,19 @@ inline btScalar dotXyz(const Lanes& a, const Lanes& b)
 	return p[0] + p[1] + p[2];
 }
 
-/// Column `c` of m as (m[0][c], m[1][c], m[2][c], 0).
-inline Lanes columnLanes(const btMatrix3x3& m, int c)
+/// (x, y, z, w) in four lanes.
+inline Lanes makeLanes(btScalar x, btScalar y, btScalar z, btScalar w)
 {
-	const Lanes l = {m[0][c], m[1][c], m[2][c], btScalar(0)};
+#if QUATHINGE_HAVE_VECTOR_EXTENSIONS
+	const Lanes l = {x, y, z, w};
 	return l;
+#else
+	return {{x, y, z, w}};
+#endif
 }
+
+/// Column `c` of m as (m[0][c], m[1][c], m[2][c], 0).
+inline Lanes columnLanes(const btMatrix3x3& m, int c) { return makeLanes(m[0][c], m[1][c], m[2][c], btScalar(0)); }
 
 /// out = m1 · m2 (btMatrix3x3::operator*'s bits). out may not be m1 or m2.
 inline void multiplyRows(const btMatrix3x3& m1, const btMatrix3x3& m2, btMatrix3x3& out)

@@ -26,7 +26,7 @@ bool BlockLDLT<R>::analyze(const BlockPattern& pattern)
 	{
 		m_updateStart[k] = int(m_updates.size());
 		const int first = pattern.colStart[k], last = pattern.colStart[k + 1];
-		widest = std::max(widest, last - first);
+		widest = (std::max)(widest, last - first);
 		for (int a = first; a < last; ++a)
 			for (int b = first; b <= a; ++b)
 			{

@@ -55,10 +55,10 @@ void findReferenceMass(Island& island)
 	for (const IslandBody& b : island.bodies)
 	{
 		const btRigidBody& body = *b.rigid;
-		if (body.getInvMass() > 0) island.referenceMass = std::max(island.referenceMass, 1.0 / body.getInvMass());
+		if (body.getInvMass() > 0) island.referenceMass = (std::max)(island.referenceMass, 1.0 / body.getInvMass());
 		const btVector3& invLocal = body.getInvInertiaDiagLocal();
 		for (int i = 0; i < 3; ++i)
-			if (invLocal[i] > 0) island.referenceInertia = std::max(island.referenceInertia, 1.0 / invLocal[i]);
+			if (invLocal[i] > 0) island.referenceInertia = (std::max)(island.referenceInertia, 1.0 / invLocal[i]);
 	}
 }
 
@@ -98,7 +98,7 @@ double movePositions(Island& island, double step)
 	for (IslandBody& b : island.bodies)
 	{
 		const Eigen::Matrix<double, 6, 1> move = step * b.delta;
-		largest = std::max(largest, move.cwiseAbs().maxCoeff());
+		largest = (std::max)(largest, move.cwiseAbs().maxCoeff());
 		btTransform t = b.rigid->getCenterOfMassTransform();
 		t.setOrigin(t.getOrigin() + btVector3(btScalar(move[0]), btScalar(move[1]), btScalar(move[2])));
 		// q ← normalize(q + ½ Δθ ⊗ q) (Q1 over a unit time: the world-frame rotation Δθ)

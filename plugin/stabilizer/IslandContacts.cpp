@@ -112,7 +112,7 @@ void gatherContacts(btDispatcher& dispatcher, const Array<std::unique_ptr<Island
 		}
 		if (!set) continue;
 		const bool fixedB = set->body[1] == nullptr;
-		const int capacity = std::min(island->blockRows, kMaxContactRows);
+		const int capacity = (std::min)(island->blockRows, kMaxContactRows);
 		for (int p = 0; p < manifold->getNumContacts(); ++p)
 		{
 			const btManifoldPoint& point = manifold->getContactPoint(p);

@@ -4,6 +4,7 @@
 #ifndef QUATHINGE_STABILIZER_ISLAND_ROWS_H
 #define QUATHINGE_STABILIZER_ISLAND_ROWS_H
 
+#include "CompilerExtensions.h"
 #include "IslandContacts.h"
 #include "LockedRows.h"
 #include "PointRows.h"
@@ -67,7 +68,7 @@ PositionResidual evaluatePositions(BlockIsland<R>& island, btScalar tolerance)
 	{
 		JointSlot& js = island.joints[j];
 		JointBlock<R>& jb = island.blocks[j];
-		if (__builtin_expect(js.contact >= 0, 0))  // a contact slot (IslandContacts.h): linear rows, at the bodies' coordinate
+		if (QUATHINGE_UNLIKELY(js.contact >= 0))  // a contact slot (IslandContacts.h): linear rows, at the bodies' coordinate
 		{
 			btScalar coordinate = maxAbs(js.rigid[0]->getCenterOfMassPosition());
 			if (js.rigid[1]) coordinate = btMax(coordinate, maxAbs(js.rigid[1]->getCenterOfMassPosition()));
@@ -105,7 +106,7 @@ PositionResidual evaluatePositions(BlockIsland<R>& island, btScalar tolerance)
 			btScalar& worst = r < linearRows ? linear : angular;
 			worst = btMax(worst, btFabs(c[r]));
 		}
-		if (__builtin_expect(js.generalLinear(), 0))  // a locked 6-dof: its linear part turns with body A
+		if (QUATHINGE_UNLIKELY(js.generalLinear()))  // a locked 6-dof: its linear part turns with body A
 			for (int r = 0; r < rows; ++r)
 				for (int k = 0; k < 3; ++k)
 				{

@@ -4,6 +4,7 @@
 #ifndef QUATHINGE_STABILIZER_ISLAND_SYSTEM_H
 #define QUATHINGE_STABILIZER_ISLAND_SYSTEM_H
 
+#include "CompilerExtensions.h"
 #include "IslandBodies.h"
 #include "StabilizerIsland.h"
 
@@ -99,7 +100,7 @@ double assemble(BlockIsland<R>& island, double regularization)
 		const JointSlot& js = island.joints[j];
 		const JointBlock<R>& jb = island.blocks[j];
 		Block<R>& d = island.k.diag[j];
-		if (__builtin_expect(js.contact >= 0, 0))
+		if (QUATHINGE_UNLIKELY(js.contact >= 0))
 		{
 			assembleContactDiagonal(island, js, jb, d, trace, activeRows);
 			continue;
@@ -113,7 +114,7 @@ double assemble(BlockIsland<R>& island, double regularization)
 			else addSideProduct<R, true, true>(d, jb.jacobian, 6 * s + 3, jb.h[s]);
 			first = false;
 			if (js.linearSign[s] != 0) d.template topLeftCorner<3, 3>().diagonal() += island.bodies[js.body[s]].invMass;
-			else if (__builtin_expect(js.generalLinear(), 0))  // a locked 6-dof: L diag(m⁻¹) Lᵀ
+			else if (QUATHINGE_UNLIKELY(js.generalLinear()))  // a locked 6-dof: L diag(m⁻¹) Lᵀ
 			{
 				const auto linear = jb.jacobian.template block<R, 3>(0, 6 * s);
 				d.template topLeftCorner<R, R>().noalias() +=
@@ -152,7 +153,7 @@ double assemble(BlockIsland<R>& island, double regularization)
 	{
 		JointSlot& js = island.joints[j];
 		Block<R>& d = island.k.diag[j];
-		if (__builtin_expect(js.contact >= 0, 0))
+		if (QUATHINGE_UNLIKELY(js.contact >= 0))
 		{
 			for (int r = 0; r < R; ++r)
 				d(r, r) = (js.contactTouched & (1u << r)) ? d(r, r) + regularization * scale : scale;

@@ -209,7 +209,7 @@ const btQuaternionHingeStabilizerStats& btQuaternionHingeStabilizer::stabilize(b
 		}
 		if (m_settings.keepEnergyAndMomentum && island.invariants.guarded) ++m_stats.energyGuardedIslands;
 		if (m_settings.conserveEnergy)
-			m_stats.energyCorrection = std::max(m_stats.energyCorrection, btScalar(restoreEnergy(island)));
+			m_stats.energyCorrection = (std::max)(m_stats.energyCorrection, btScalar(restoreEnergy(island)));
 		++m_stats.islands;
 		if (r.reused) ++m_stats.restingIslands;
 		else
@@ -226,7 +226,7 @@ const btQuaternionHingeStabilizerStats& btQuaternionHingeStabilizer::stabilize(b
 		m_stats.lockedConstraints += island.jointsOfKind[kLockedConstraints];
 		m_stats.bodies += int(island.bodies.size());
 		m_stats.rows += island.pattern.rows;
-		m_stats.iterations = std::max(m_stats.iterations, r.iterations);
+		m_stats.iterations = (std::max)(m_stats.iterations, r.iterations);
 		m_stats.totalIterations += r.iterations;
 		m_stats.factorizations += r.factorizations;
 		m_stats.solves += r.solves;
@@ -235,10 +235,10 @@ const btQuaternionHingeStabilizerStats& btQuaternionHingeStabilizer::stabilize(b
 		m_stats.activeLimitRows += r.activeLimitRows;
 		m_stats.contactRows += r.contactRows;
 		m_stats.numericalIssues += r.numericalIssues;
-		m_stats.residualBefore = std::max(m_stats.residualBefore, r.residualBefore);
-		m_stats.residualAfter = std::max(m_stats.residualAfter, r.residualAfter);
-		m_stats.velocityResidualBefore = std::max(m_stats.velocityResidualBefore, r.velocityResidualBefore);
-		m_stats.velocityResidualAfter = std::max(m_stats.velocityResidualAfter, r.velocityResidualAfter);
+		m_stats.residualBefore = (std::max)(m_stats.residualBefore, r.residualBefore);
+		m_stats.residualAfter = (std::max)(m_stats.residualAfter, r.residualAfter);
+		m_stats.velocityResidualBefore = (std::max)(m_stats.velocityResidualBefore, r.velocityResidualBefore);
+		m_stats.velocityResidualAfter = (std::max)(m_stats.velocityResidualAfter, r.velocityResidualAfter);
 	}
 	if (m_settings.moveAttachedBodies) m_stats.attachedBodiesMoved = carryAttachedBodies(impl.attached);
 	if (m_settings.closeAttachedConstraints) m_stats.attachedConstraintsClosed = closeAttachedConstraints(impl.attached);
