@@ -1,21 +1,15 @@
 /*
 QuatHinge — a quaternion hinge constraint for the Bullet physics engine.
 
-btQuaternionHingeConstraint is a drop-in replacement for btHingeConstraint: same constructors, same public methods,
-same sign conventions. Its two angular rows are the exact derivative of the relative-quaternion hinge equations
-(MATH.md Q2–Q10), so they keep full strength at every hinge angle, including ±π; its limits act on a multi-turn angle
-(ranges across ±π and wider than a turn work and never flip); and it adds a position servo, a spring-damper set in
-hertz, and joint friction. Every row it reports is one it needs: a bare joint is 5 rows (2 when angular-only), a
-limit row exists only while the limit is active, a drive row only while a drive is on.
-
-Differences from btHingeConstraint are listed in docs/MIGRATING.md.
-
-Errors: every constructor and setter checks its arguments and refuses only what has no meaning (NaN/Inf, a zero axis,
-the same body twice, a negative impulse); the message names the function and the parameter
-("btQuaternionHingeConstraint::setLimit: low (nan) must not be NaN"). It is thrown as std::invalid_argument, or, in a
-build without exceptions, handed to the error callback (btQuaternionHingeErrors.h). Nothing invalid is stored, so
-nothing invalid reaches the solver; no const method throws. State that enters from outside (a body's NaN velocity or transform) is checked
-in getInfo1: the joint then reports no rows, disables itself and records why (getFault()).
+btQuaternionHingeConstraint is a drop-in replacement for btHingeConstraint (same constructors, methods and sign
+conventions; the differences: docs/MIGRATING.md). Its two angular rows are the exact derivative of the
+relative-quaternion hinge equations (MATH.md Q2–Q10), at full strength at every hinge angle; its limits act on a
+multi-turn angle; it adds a position servo, a spring-damper in hertz and joint friction; it reports only the rows it
+needs (5 bare, 2 angular-only, a limit or drive row only while active).
+Errors: what has no meaning (NaN/Inf, a zero axis, the same body twice, a negative impulse) is refused, naming the
+function and parameter: std::invalid_argument, or the error callback without exceptions (btQuaternionHingeErrors.h).
+Nothing invalid is stored; no const method throws; a body's non-finite state found in getInfo1 disables the joint
+with a reason (getFault()).
 */
 #ifndef BT_QUATERNION_HINGE_CONSTRAINT_H
 #define BT_QUATERNION_HINGE_CONSTRAINT_H
@@ -377,16 +371,14 @@ public:
 										btVector3& angleGradient);
 	/// The same without the angle (a hinge with no limit row: the angle's atan2 saved).
 	static int computeFramePositionRows(const btTransform& frameInA, const btTransform& frameInB, bool angularOnly,
-										const btTransform& transA, const btTransform& transB, btScalar* C,
-										btScalar* jacobian);
+										const btTransform& transA, const btTransform& transB, btScalar* C, btScalar* jacobian);
 
 	/// Draws the joint: pivot frames, the hinge axis and, with a limit, its arc (within one turn).
 	void debugDraw(btIDebugDraw * drawer, btScalar size = btScalar(0.3)) const;
 
 private:
-	/// What the rows need of the joint frames in world for one pair of body transforms: frame A's basis R_A (kept as
-	/// R_Aᵀ, whose rows are frame A's axes x̂, ŷ, ẑ in world: every use takes columns of R_A), both pivots, and
-	/// q = a* ⊗ b (Q2). Frame B's basis only enters q, so it is not kept.
+	/// The joint frames in world at one pair of body transforms: frame A's axes (rows of R_Aᵀ), both pivots, and
+	/// q = a* ⊗ b (Q2); frame B's basis only enters q.
 	struct Pose
 	{
 		btMatrix3x3 axesA;
@@ -498,12 +490,10 @@ QUATHINGE_API void btSwapConstraintInWorld(btDynamicsWorld * world, btTypedConst
 /// btHingeAccumulatedAngleConstraint by a btQuaternionHingeAccumulatedAngleConstraint with its count), each in the stock
 /// hinge's place in the world's constraint order (the order the solver meets them in), with the same
 /// disableCollisionsBetweenLinkedBodies choice as far as the world can tell it; the other constraints keep their
-/// places and choices too. Returns how many it replaced.
-/// Ownership: the world never owned constraints, and this function deletes nothing. The replacements are allocated
-/// here with new and belong to the caller: each is appended to *added (if not null); the caller removes them from
-/// the world and deletes them (before the bodies go). The removed stock hinges stay with whoever allocated them: each
-/// is appended to *removedStock (if not null), so the caller can delete the ones it allocated itself; hinges a
-/// btBulletWorldImporter loaded are deleted by its deleteAllData() (deleting them here as well was a double free).
+/// places and choices too. Returns how many it replaced. It deletes nothing: the replacements (new'd here) are the
+/// caller's, appended to *added (if not null), to remove from the world and delete before the bodies go; the removed
+/// stock hinges stay with whoever allocated them, appended to *removedStock (if not null) so the caller can delete its
+/// own (a btBulletWorldImporter's are deleted by its deleteAllData()).
 QUATHINGE_API int btReplaceHingeConstraints(btDynamicsWorld * world, btAlignedObjectArray<btQuaternionHingeConstraint*>* added = 0,
 							  btAlignedObjectArray<btHingeConstraint*>* removedStock = 0);
 
