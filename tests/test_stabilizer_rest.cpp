@@ -143,9 +143,9 @@ TEST(StabilizerRest, ChainsRestingAgainstTheirStopsAreReplayedToTheBit)
 	// cycle of states. The rest cache keeps the last two projections and replays either, so a chain whose state comes
 	// back every second step (the bodies' velocities alternate to the bit) is replayed at every step; before, such an
 	// island was projected every step. Which chains settle into a cycle of two is a matter of the platform's bits
-	// (docs/PLATFORMS.md): over steps 200-299 of 2 chains of 4 links, both on x86-64 Linux, one on Windows x86-64
-	// (MinGW-w64; the other bounces on its stops in a cycle of 10 steps at 0.14 m/s). So the test finds the chains
-	// whose state repeats that of two steps before and asserts that exactly those are replayed, at least one of them.
+	// (docs/PLATFORMS.md): over steps 200-299 of 2 chains of 4 links, both on x86-64 Linux, one on aarch64 and one on
+	// Windows x86-64 (MinGW-w64: the other bounces on its stops in a cycle of 10 steps at 0.14 m/s). So the test finds
+	// the chains whose state repeats that of two steps before and asserts that exactly those are replayed, at least one.
 	const int chains = 2, links = 4;
 	RestWorld w(chains, links, 2);
 	std::vector<std::vector<unsigned char>> history[chains];  // each chain's state at the start of the last 3 steps
