@@ -123,7 +123,6 @@ run_tests() {
   (cd "$work/qh-$name/tests" && run "./quathinge_tests$exe" --gtest_color=no ${leave_out:+--gtest_filter=-$leave_out}) >"$log" 2>&1 ||
     { grep -B2 -A25 -E "^\[  FAILED  \]|Failure" "$log" | head -n 150; tail -n 30 "$log"; fail "tests ($name)"; }
   grep -E "^\[==========\]|^\[  PASSED  \]|^\[  SKIPPED \]|YOU HAVE" "$log"
-  grep -A3 -E "^\[  SKIPPED \] [0-9]+ tests?, listed" "$log" | grep -E "^\[  SKIPPED \] [A-Za-z]" || true
   passed=$(sed -n 's/^\[  PASSED  \] \([0-9]*\) tests\?\..*/\1/p' "$log")
   skipped=$(sed -n 's/^\[  SKIPPED \] \([0-9]*\) tests\?, listed.*/\1/p' "$log")
   echo "ci-cross $target ($name): $passed passed, 0 failed${skipped:+, $skipped skipped}"
