@@ -23,38 +23,12 @@ mkdir -p "$work"
 work=$(cd "$work" && pwd)
 fail() { echo "ci-source-bullet: FAILED: $*" >&2; exit 1; }
 step() { echo; echo "=== ci-source-bullet: $* ($(date -u +%T))"; }
-as_root=()
-[ "$(id -u)" -eq 0 ] || as_root=(sudo)
+source "$src/cmake/bullet-source.sh"   # quathinge_bullet_source, build_bullet
 
 # ---- Bullet's source
 step "Bullet source (apt-get source bullet)"
-if ! apt-get source --print-uris bullet >/dev/null 2>&1; then
-  echo "adding deb-src for bookworm main"
-  printf 'Types: deb-src\nURIs: http://deb.debian.org/debian\nSuites: bookworm\nComponents: main\nSigned-By: /usr/share/keyrings/debian-archive-keyring.gpg\n' |
-    "${as_root[@]}" tee /etc/apt/sources.list.d/quathinge-deb-src.sources >/dev/null
-  "${as_root[@]}" apt-get update -qq
-fi
-if ! ls "$work"/dl/bullet_*.orig.tar.* >/dev/null 2>&1; then
-  mkdir -p "$work/dl"
-  (cd "$work/dl" && apt-get source --download-only -qq bullet 2>&1 | grep -v "^W: Download is performed unsandboxed" || true)
-fi
-orig=$(ls "$work"/dl/bullet_*.orig.tar.* | head -n1)
-rm -rf "$work"/bullet3-*
-tar xf "$orig" -C "$work"
-bullet_src=$(ls -d "$work"/bullet3-* | head -n1)
-echo "source: $orig -> $bullet_src"
-bullet_options=(-DCMAKE_BUILD_TYPE=Release -DBUILD_EXTRAS=OFF -DBUILD_UNIT_TESTS=OFF -DBUILD_CPU_DEMOS=OFF
-  -DBUILD_BULLET2_DEMOS=OFF -DBUILD_OPENGL3_DEMOS=OFF -DBUILD_PYBULLET=OFF -DBUILD_BULLET3=OFF)
+quathinge_bullet_source "$work"
 
-build_bullet() {  # name, extra options
-  local name=$1; shift
-  if [ -f "$work/bullet-$name/lib/pkgconfig/bullet.pc" ]; then echo "reusing $work/bullet-$name"; return; fi
-  cmake -S "$bullet_src" -B "$work/bullet-build-$name" "${bullet_options[@]}" "$@" \
-    -DCMAKE_INSTALL_PREFIX="$work/bullet-$name" >"$work/bullet-$name.log" 2>&1 || { cat "$work/bullet-$name.log"; exit 1; }
-  cmake --build "$work/bullet-build-$name" -j2 >>"$work/bullet-$name.log" 2>&1 || { tail -n 30 "$work/bullet-$name.log"; exit 1; }
-  cmake --install "$work/bullet-build-$name" >>"$work/bullet-$name.log"
-  echo "installed: $(cd "$work/bullet-$name" && ls lib/*.a lib/pkgconfig/*.pc lib/cmake/bullet/BulletConfig.cmake | tr '\n' ' ')"
-}
 # No libBullet/libLinearMath from anywhere in ldd, and Bullet's own code inside the program.
 check_links_no_shared_bullet() {
   local f

@@ -53,6 +53,13 @@ const void* vtableEntry(const btTypedConstraint& object, std::ptrdiff_t offset)
 
 TEST(SolverSkipsEmptyVirtuals, QuaternionHingeHoldsBulletsOwnEmptyInlines)
 {
+#ifdef QUATHINGE_TEST_WINDOWS_DLL
+	// A Windows DLL holds its own copy of every inline function it uses, and PE modules have no symbol interposition
+	// to make the copies one: QuatHinge's DLL cannot hold Bullet's DLL's copy of these empty inlines, so there the
+	// solver calls them (a cost, about 0.7% of a bare step; docs/PLATFORMS.md). A static QuatHinge holds them on
+	// Windows too: this test passes in that build.
+	GTEST_SKIP() << "QuatHinge built as a Windows DLL cannot share Bullet's empty inline virtuals";
+#endif
 	btBoxShape shape(btVector3(btScalar(0.1), btScalar(0.1), btScalar(0.1)));
 	btRigidBody a(1, nullptr, &shape), b(1, nullptr, &shape);
 	const btVector3 pivot(0, 0, 0), axis(0, 1, 0);

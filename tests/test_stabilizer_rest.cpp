@@ -7,6 +7,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cstdio>
 #include <cstring>
 #include <functional>
 #include <vector>
@@ -56,8 +57,9 @@ struct RestWorld
 	void step() { scene.world().stepSimulation(kTimeStep, 0, kTimeStep); }
 };
 
-// Every link's pose, velocities and Bullet's world inverse inertia, as bytes.
-std::vector<unsigned char> state(const RestWorld& w)
+// The pose, velocities and Bullet's world inverse inertia of links [first, first + count) (every link by default), as
+// bytes.
+std::vector<unsigned char> state(const RestWorld& w, std::size_t first = 0, std::size_t count = std::size_t(-1))
 {
 	std::vector<unsigned char> bytes;
 	auto add = [&bytes](const btVector3& v) {
@@ -65,8 +67,9 @@ std::vector<unsigned char> state(const RestWorld& w)
 		const unsigned char* p = reinterpret_cast<const unsigned char*>(xyz);
 		bytes.insert(bytes.end(), p, p + sizeof(xyz));
 	};
-	for (const btRigidBody* b : w.links)
+	for (std::size_t k = first; k < w.links.size() && k - first < count; ++k)
 	{
+		const btRigidBody* b = w.links[k];
 		const btTransform& t = b->getCenterOfMassTransform();
 		for (int r = 0; r < 3; ++r) add(t.getBasis()[r]);
 		add(t.getOrigin());
@@ -137,21 +140,42 @@ TEST(StabilizerRest, LimitedChainsAtRestAreReplayedToTheBit)
 TEST(StabilizerRest, ChainsRestingAgainstTheirStopsAreReplayedToTheBit)
 {
 	// Chains folded against their stops do not reach a fixed point: Bullet's stop rows and the projection settle into a
-	// cycle of two states (the bodies' velocities alternate to the bit). The rest cache keeps the last two projections
-	// and replays either; before, such an island was projected every step. Measured: 2 chains of 4 links, 300 steps,
-	// the last 100 all replays.
-	RestWorld w(2, 4, 2);
-	int resting = 0;
+	// cycle of states. The rest cache keeps the last two projections and replays either, so a chain whose state comes
+	// back every second step (the bodies' velocities alternate to the bit) is replayed at every step; before, such an
+	// island was projected every step. Which chains settle into a cycle of two is a matter of the platform's bits
+	// (docs/PLATFORMS.md): over steps 200-299 of 2 chains of 4 links, both on x86-64 Linux, one on aarch64 and one on
+	// Windows x86-64 (MinGW-w64: the other bounces on its stops in a cycle of 10 steps at 0.14 m/s). So the test finds
+	// the chains whose state repeats that of two steps before and asserts that exactly those are replayed, at least one.
+	const int chains = 2, links = 4;
+	RestWorld w(chains, links, 2);
+	std::vector<std::vector<unsigned char>> history[chains];  // each chain's state at the start of the last 3 steps
+	int resting = 0, cycling = 0;
 	for (int i = 0; i < 300; ++i)
 	{
+		int cyclingNow = 0;
+		for (int c = 0; c < chains; ++c)
+		{
+			history[c].push_back(state(w, std::size_t(c * links), std::size_t(links)));
+			if (history[c].size() > 3) history[c].erase(history[c].begin());
+			if (history[c].size() == 3 && history[c][2] == history[c][0]) ++cyclingNow;  // starts as 2 steps ago
+		}
 		w.step();
-		if (i >= 200) resting += w.stabilizer.getLastStats().restingIslands;
+		if (i < 200) continue;
+		const btQuaternionHingeStabilizerStats& stats = w.stabilizer.getLastStats();
+		resting += stats.restingIslands;
+		cycling += cyclingNow;
+		EXPECT_EQ(stats.restingIslands, cyclingNow) << "step " << i;
+		if (stats.restingIslands == stats.islands)
+		{
+			EXPECT_EQ(stats.factorizations, 0) << "step " << i;  // nothing left to project
+		}
 	}
-	EXPECT_EQ(resting, 200);  // both islands at every one of the last 100 steps
-	EXPECT_EQ(w.stabilizer.getLastStats().factorizations, 0);
+	std::printf("[ figures  ] islands replayed over steps 200-299: %d of %d (chains in a cycle of two: %d)\n", resting,
+				100 * chains, cycling);
+	EXPECT_GE(resting, 100);  // at least one chain at every one of the last 100 steps
 	EXPECT_GT(w.stabilizer.getLastStats().activeLimitRows, 0);  // at their stops
 	// and to the bit what the projection gives
-	EXPECT_GT(lockstep(2, 4, 2, 300, nothing), 0);
+	EXPECT_GT(lockstep(chains, links, 2, 300, nothing), 0);
 }
 
 // A state for a projection to work on: every link 1 mm lower and falling at 5 cm/s (the solver's sag at rest).
