@@ -9,7 +9,7 @@
 # for their time) in one run of the program under the emulator;
 # then the package installed into a prefix and an outside program (tests/consumer: find_package(QuatHinge)) built
 # against it with the same toolchain and run under the emulator.
-# mingw also builds QuatHinge as DLLs over Bullet's DLLs (the supported shared combination, docs/PLATFORMS_CROSS.md),
+# mingw also builds QuatHinge as DLLs over Bullet's DLLs (the supported shared combination, docs/PLATFORMS.md),
 # linked with -Wl,--exclude-all-symbols so that only what QUATHINGE_API / QUATHINGE_STABILIZER_API mark is exported
 # (MinGW would otherwise export everything and hide a missing mark): the export tables are checked, every test runs
 # against the DLLs, and the consumer runs against the installed DLLs.
