@@ -19,8 +19,8 @@
 namespace
 {
 const btVector3 kPuckHalf(btScalar(0.075), btScalar(0.075), btScalar(0.025));  // m: 0.2 kg, 3e-4 to 8e-4 kg·m²
-const btVector3 kArmHalf(btScalar(0.5), btScalar(0.05), btScalar(0.025));     // m: 0.5 kg
-const btScalar kPuckMass = btScalar(0.2), kArmMass = btScalar(0.5);             // kg
+const btVector3 kArmHalf(btScalar(0.5), btScalar(0.05), btScalar(0.025));      // m: 0.5 kg
+const btScalar kPuckMass = btScalar(0.2), kArmMass = btScalar(0.5);            // kg
 
 struct Measured
 {
@@ -104,9 +104,10 @@ TEST(AxialLever, NoBodysRotationTakesMoreOfAPointRowThanItsTranslationOrTheOther
 		const double inertiaPuck = double(about.dot(puck->getInvInertiaTensorWorld() * about));
 		const double leverPuck = double(rows.angB(r).length()), leverArm = double(rows.angA(r).length());
 		const double sharePuck = leverPuck * leverPuck * inertiaPuck, shareArm = leverArm * leverArm * inertiaArm;
-		std::printf("[ figures  ] point row %d: levers puck %.4f m, arm %.4f m; shares %.2f and %.2f kg^-1 (translational "
-					"%.0f; the mass blend's puck share %.0f)\n",
-					r, leverPuck, leverArm, sharePuck, shareArm, translational, 0.2857 * 0.2857 * inertiaPuck);
+		std::printf(
+			"[ figures  ] point row %d: levers puck %.4f m, arm %.4f m; shares %.2f and %.2f kg^-1 (translational "
+			"%.0f; the mass blend's puck share %.0f)\n",
+			r, leverPuck, leverArm, sharePuck, shareArm, translational, 0.2857 * 0.2857 * inertiaPuck);
 		EXPECT_LT(sharePuck, (1 + kShareTolerance) * std::max(translational, shareArm)) << "point row " << r;
 		EXPECT_LT(shareArm, (1 + kShareTolerance) * std::max(translational, sharePuck)) << "point row " << r;
 	}

@@ -159,7 +159,8 @@ TEST(CallerPatterns, BulletForkLiftLocksTheLiftWhereTheKeyWasReleased)
 		const btScalar hingeAngle = hinge->getHingeAngle();
 		const btScalar lowLim = hinge->getLowerLimit(), hiLim = hinge->getUpperLimit();
 		hinge->enableAngularMotor(false, 0, 0);
-		const btScalar lock = hingeAngle < lowLim ? lowLim : hingeAngle > hiLim ? hiLim : hingeAngle;
+		const btScalar lock = hingeAngle < lowLim ? lowLim : hingeAngle > hiLim ? hiLim
+																				: hingeAngle;
 		hinge->setLimit(lock, lock);
 		run.reads = {lowLim, hiLim, hinge->getLowerLimit(), hinge->getUpperLimit(), double(hinge->getEnableAngularMotor())};
 		record(run, w, *hinge, 60);  // locked where released
@@ -346,8 +347,10 @@ TEST(CallerPatterns, BulletDoorOnTheWorldHangsOnItsFarPivotAsStock)
 		run.extra.push_back(run.maxSeparation);  // through the stop
 		return run;
 	});
-	std::printf("[ figures  ] ConstraintDemo door, pivots apart at most: hanging stock %.3g m, quaternion %.3g m; at the "
-				"stop stock %.3g m, quaternion %.3g m\n", r.stock.extra[0], r.quat.extra[0], r.stock.extra[1], r.quat.extra[1]);
+	std::printf(
+		"[ figures  ] ConstraintDemo door, pivots apart at most: hanging stock %.3g m, quaternion %.3g m; at the "
+		"stop stock %.3g m, quaternion %.3g m\n",
+		r.stock.extra[0], r.quat.extra[0], r.stock.extra[1], r.quat.extra[1]);
 	// Stock's behaviour while hanging: the pivot held to 1e-3 m, the angle (0) the same to 0.01 rad.
 	CallerRun stockHanging = r.stock, quatHanging = r.quat;
 	stockHanging.angles.resize(60);

@@ -52,7 +52,16 @@ void spin(btRigidBody* wheel, btScalar rate) { wheel->setAngularVelocity(btVecto
 template <class Hinge>
 void godotSetParam(Hinge& h, int param, btScalar v)
 {
-	enum { UPPER = 1, LOWER, BIAS, SOFTNESS, RELAXATION, TARGET_VELOCITY, MAX_IMPULSE };
+	enum
+	{
+		UPPER = 1,
+		LOWER,
+		BIAS,
+		SOFTNESS,
+		RELAXATION,
+		TARGET_VELOCITY,
+		MAX_IMPULSE
+	};
 	switch (param)
 	{
 		case UPPER: h.setLimit(h.getLowerLimit(), v, h.getLimitSoftness(), h.getLimitBiasFactor(), h.getLimitRelaxationFactor()); break;
@@ -464,9 +473,11 @@ TEST(CallerPatterns, JmeReadOfASaveWithoutLimitsLeavesTheJointFree)
 	// Deliberately different (README, "limits": getters return the ends as given): stock wraps ±1e30 into (−π, π] and
 	// write() saves those wrapped values; the quaternion hinge saves 1e30 and −1e30, so the save it writes back is
 	// still a free joint, turning 6 rad in 2 s at 3 rad/s (to 0.01 rad).
-	std::printf("[ figures  ] jME read of setLimit(1e30f, -1e30f): stock reports [%.4f, %.4f] (saved: limit %s), "
-				"quaternion [%g, %g] (limit %s)\n", r.stock.extra[0], r.stock.extra[1], r.stock.extra[2] != 0 ? "on" : "off",
-				r.quat.extra[0], r.quat.extra[1], r.quat.extra[2] != 0 ? "on" : "off");
+	std::printf(
+		"[ figures  ] jME read of setLimit(1e30f, -1e30f): stock reports [%.4f, %.4f] (saved: limit %s), "
+		"quaternion [%g, %g] (limit %s)\n",
+		r.stock.extra[0], r.stock.extra[1], r.stock.extra[2] != 0 ? "on" : "off",
+		r.quat.extra[0], r.quat.extra[1], r.quat.extra[2] != 0 ? "on" : "off");
 	EXPECT_EQ(r.stock.reads[0], 0);  // the first read is free in both
 	EXPECT_EQ(r.quat.reads[0], 0);
 	EXPECT_EQ(r.quat.extra[0], double(1e30f));
@@ -577,10 +588,11 @@ TEST(CallerPatterns, GazeboSetUpperLimitKeepsTheSdfLowerEnd)
 	// limit it is handed back has an arbitrary lower end; the quaternion hinge hands back −∞ (no stop on that side)
 	// and stops the joint at the upper end the caller gave: position (getHingeAngle − angleOffset) at most 0.5 rad
 	// + 1e-3 rad; pushed back, it has no lower stop (it turns past −π; stock stops at its arbitrary lower end).
-	std::printf("[ figures  ] Gazebo SetUpperLimit(0.5): stock lower end %.4f rad (limit %s), reached %.4f rad; "
-				"quaternion lower end %g (limit %s), reached %.4f rad; pushed back: stock least %.4f rad, quaternion %.4f rad\n",
-				r.stock.extra[0], r.stock.extra[1] != 0 ? "on" : "off", r.stock.extra[2], r.quat.extra[0],
-				r.quat.extra[1] != 0 ? "on" : "off", r.quat.extra[2], r.stock.extra[3], r.quat.extra[3]);
+	std::printf(
+		"[ figures  ] Gazebo SetUpperLimit(0.5): stock lower end %.4f rad (limit %s), reached %.4f rad; "
+		"quaternion lower end %g (limit %s), reached %.4f rad; pushed back: stock least %.4f rad, quaternion %.4f rad\n",
+		r.stock.extra[0], r.stock.extra[1] != 0 ? "on" : "off", r.stock.extra[2], r.quat.extra[0],
+		r.quat.extra[1] != 0 ? "on" : "off", r.quat.extra[2], r.stock.extra[3], r.quat.extra[3]);
 	EXPECT_EQ(r.quat.extra[0], -std::numeric_limits<double>::infinity());
 	EXPECT_LE(r.quat.extra[2], 0.5 + 1e-3);
 	EXPECT_GT(r.quat.extra[2], 0.5 - 0.02);  // and it got there

@@ -15,14 +15,14 @@
 namespace
 {
 const int kLinks = 10;
-const int kSteps = 120;                                  // at 60 Hz: 2 s
-const btScalar kHalfLength = btScalar(0.2);              // m, half a link
-const btScalar kLimitLow = btScalar(-0.5);               // rad, first joint
-const btScalar kLimitHigh = btScalar(0.5);               // rad
-const btScalar kMotorSpeed = btScalar(2);                // rad/s, fifth joint
-const btScalar kMotorImpulse = btScalar(0.5);            // N·m·s per step
+const int kSteps = 120;                        // at 60 Hz: 2 s
+const btScalar kHalfLength = btScalar(0.2);    // m, half a link
+const btScalar kLimitLow = btScalar(-0.5);     // rad, first joint
+const btScalar kLimitHigh = btScalar(0.5);     // rad
+const btScalar kMotorSpeed = btScalar(2);      // rad/s, fifth joint
+const btScalar kMotorImpulse = btScalar(0.5);  // N·m·s per step
 const int kMotorJoint = 4;
-const btScalar kLimitSlack = btScalar(0.1);              // rad: how far past a stop the sanity check lets it be
+const btScalar kLimitSlack = btScalar(0.1);  // rad: how far past a stop the sanity check lets it be
 
 // The expected hash of the trajectory: a golden of one platform and one Bullet build, since the bits depend on the
 // instruction set, on whether the compiler fuses a*b+c into one rounding (FMA contraction), on the maths functions
@@ -86,8 +86,8 @@ btVector3 axisOf(int i)
 struct ChainRun
 {
 	std::uint64_t hash;
-	btVector3 tip;           // last link's centre at the end (m)
-	btScalar firstAngle;     // first joint's multi-turn angle at the end (rad)
+	btVector3 tip;        // last link's centre at the end (m)
+	btScalar firstAngle;  // first joint's multi-turn angle at the end (rad)
 };
 
 ChainRun runChain()

@@ -38,10 +38,11 @@ TEST(DoublePendulum, AnchorSwingLeftByGaussSeidelDoesNotBecomeAStandingSeparatio
 		ASSERT_FALSE(quaternion.blewUp);
 		const double maxRatio = quaternion.maxSeparation / stock.maxSeparation;
 		const double rmsRatio = quaternion.rmsSeparation / stock.rmsSeparation;
-		std::printf("[ figures  ] double_pendulum %d iterations: max separation %.3e m (stock %.3e, %.2fx), RMS "
-					"%.3e m (stock %.3e, %.2fx)\n",
-					iterations, quaternion.maxSeparation, stock.maxSeparation, maxRatio, quaternion.rmsSeparation,
-					stock.rmsSeparation, rmsRatio);
+		std::printf(
+			"[ figures  ] double_pendulum %d iterations: max separation %.3e m (stock %.3e, %.2fx), RMS "
+			"%.3e m (stock %.3e, %.2fx)\n",
+			iterations, quaternion.maxSeparation, stock.maxSeparation, maxRatio, quaternion.rmsSeparation,
+			stock.rmsSeparation, rmsRatio);
 		EXPECT_LE(maxRatio, iterations == 250 ? kMaxSeparationRatio : kMaxSeparationRatioAt50) << iterations;
 		EXPECT_LE(rmsRatio, kRmsSeparationRatio) << iterations;
 	}

@@ -8,13 +8,13 @@
 namespace
 {
 const double kRecoveredDeg = 1.0;  // misalignment counted as recovered, degrees
-const int kBudgetSteps = 60;      // 1 s at 60 Hz
+const int kBudgetSteps = 60;       // 1 s at 60 Hz
 
 enum class Mount
 {
-	TwoBodies,    // two free boxes, the second turned
-	StaticBase,   // a box hinged to a static box (two-body constructor)
-	WorldHinge    // a box hinged to the world (world-hinge constructor), turned after construction
+	TwoBodies,   // two free boxes, the second turned
+	StaticBase,  // a box hinged to a static box (two-body constructor)
+	WorldHinge   // a box hinged to the world (world-hinge constructor), turned after construction
 };
 
 // Returns the time (s) after which the misalignment stays below kRecoveredDeg (watched for 2 s), or −1; *finalDeg is
@@ -61,7 +61,8 @@ double recoveryTime(Mount mount, double deg, double* finalDeg)
 
 const char* name(Mount s)
 {
-	return s == Mount::TwoBodies ? "two bodies" : s == Mount::StaticBase ? "static base" : "world hinge";
+	return s == Mount::TwoBodies ? "two bodies" : s == Mount::StaticBase ? "static base"
+																		 : "world hinge";
 }
 }  // namespace
 
@@ -75,9 +76,10 @@ TEST(FlippedStart, RecoversWithinOneSecondFromEveryStart)
 			double finalQuat = 0, finalStock = 0;
 			const double tq = recoveryTime<btQuaternionHingeConstraint>(mount, deg, &finalQuat);
 			const double ts = recoveryTime<btHingeConstraint>(mount, deg, &finalStock);
-			std::printf("[ figures  ] %s flipped %.0f deg: quaternion recovers in %.3f s, stock in %.3f s "
-						"(-1: not within 2 s; stock's final misalignment %.3g deg)\n",
-						name(mount), deg, tq, ts, finalStock);
+			std::printf(
+				"[ figures  ] %s flipped %.0f deg: quaternion recovers in %.3f s, stock in %.3f s "
+				"(-1: not within 2 s; stock's final misalignment %.3g deg)\n",
+				name(mount), deg, tq, ts, finalStock);
 			EXPECT_GT(tq, 0) << name(mount) << " " << deg;
 			EXPECT_LE(tq, 1.0) << name(mount) << " " << deg;
 			EXPECT_LT(finalQuat, kRecoveredDeg) << name(mount) << " " << deg;

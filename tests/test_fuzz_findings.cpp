@@ -95,7 +95,7 @@ TEST(FuzzFindings, ClearFaultKeepsARefusedEditedFrameRefused)
 	w.step();
 	EXPECT_TRUE(qh_test::finiteState(a));
 	EXPECT_LT(a.getLinearVelocity().length(), btScalar(1));  // m/s: one step of gravity, not a pull toward 2e21 m
-	j.getFrameOffsetB().getOrigin().setY(good);  // repaired
+	j.getFrameOffsetB().getOrigin().setY(good);              // repaired
 	j.clearFault();
 	EXPECT_EQ(j.getFault(), BT_QHINGE_FAULT_NONE);
 	EXPECT_TRUE(j.isEnabled());
@@ -175,7 +175,7 @@ TEST(FuzzFindings, SimdInfinityMeansNoStopOnThatSide)
 	EXPECT_EQ(j.getUpperLimit(), btScalar(1));
 	j.setLimit(-1, BT_LARGE_FLOAT);
 	EXPECT_TRUE(std::isinf(j.getUpperLimit()) && j.getUpperLimit() > 0);
-	EXPECT_REFUSED(j.setLimit(SIMD_INFINITY, SIMD_INFINITY), "low");    // low at +∞: no angle is above it
+	EXPECT_REFUSED(j.setLimit(SIMD_INFINITY, SIMD_INFINITY), "low");     // low at +∞: no angle is above it
 	EXPECT_REFUSED(j.setLimit(-SIMD_INFINITY, -SIMD_INFINITY), "high");  // high at −∞
 	EXPECT_REFUSED(j.setLimit(std::nanf(""), 1), "low");
 }
@@ -299,8 +299,8 @@ TEST(FuzzFindings, BulletsGyroscopicStepDivergesOnALoneBodyAtFifteenThousandRadi
 	w.world.getSolverInfo().m_numIterations = 1;
 	btSphereShape shape(btScalar(0.1));
 	btRigidBody::btRigidBodyConstructionInfo info(1 / btScalar(0.842919469), nullptr, &shape,
-												   btVector3(1 / btScalar(8.71985722), 1 / btScalar(31.6094837),
-															 1 / btScalar(8.71985722)));
+												  btVector3(1 / btScalar(8.71985722), 1 / btScalar(31.6094837),
+															1 / btScalar(8.71985722)));
 	const btScalar c = btScalar(0x1.10fc58p-3), s = btScalar(0x1.fb6e64p-1);  // the fuzzer's pose: turned 82° about x
 	info.m_startWorldTransform.setBasis(btMatrix3x3(1, 0, 0, 0, c, -s, 0, s, c));
 	btRigidBody body(info);

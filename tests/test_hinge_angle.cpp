@@ -114,8 +114,10 @@ TEST(HingeAngle, EqualsStockThroughAllFourConstructors)
 								kStockAngleTol);
 				}
 		}
-	std::printf("[ figures  ] getHingeAngle vs btHingeConstraint, 4 forms x 2 reference frames x 17 angles x 12 poses: "
-				"worst %.3g rad\n", worstStock);
+	std::printf(
+		"[ figures  ] getHingeAngle vs btHingeConstraint, 4 forms x 2 reference frames x 17 angles x 12 poses: "
+		"worst %.3g rad\n",
+		worstStock);
 }
 
 TEST(HingeAngle, MultiTurnAngleCountsTenTurnsEachWay)
@@ -170,6 +172,6 @@ TEST(HingeAngle, ReadingFramesThroughANonConstJointKeepsTheTurnCount)
 		const btTransform frame = hinge->getAFrame();  // non-const overload, read only
 		(void)frame;
 	}
-	const double kMotorLagRad = 0.05;  // rad: the motor reaching 6 rad/s from rest in its first steps
+	const double kMotorLagRad = 0.05;                             // rad: the motor reaching 6 rad/s from rest in its first steps
 	EXPECT_NEAR(hinge->getMultiTurnAngle(), 12.0, kMotorLagRad);  // 2 s at 6 rad/s, not wrapped
 }

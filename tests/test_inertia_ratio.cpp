@@ -86,10 +86,11 @@ TEST(InertiaRatio, BareQuaternionHingeHoldsGazebosBoundAndStaysAtOrBelowStock)
 	{
 		const Metrics stock = qh_test::runAtOwnStep(scene, Kind::Stock, iterations);
 		const Metrics quaternion = qh_test::runAtOwnStep(scene, Kind::Quaternion, iterations);
-		std::printf("[ figures  ] inertia_ratio %d iterations: out of plane %.4f rad (stock %.4f), max separation %.2e m "
-					"(stock %.2e), max misalignment %.3g deg (stock %.3g)\n",
-					iterations, quaternion.maxOutOfPlaneRad, stock.maxOutOfPlaneRad, quaternion.maxSeparation,
-					stock.maxSeparation, quaternion.maxMisalignmentDeg, stock.maxMisalignmentDeg);
+		std::printf(
+			"[ figures  ] inertia_ratio %d iterations: out of plane %.4f rad (stock %.4f), max separation %.2e m "
+			"(stock %.2e), max misalignment %.3g deg (stock %.3g)\n",
+			iterations, quaternion.maxOutOfPlaneRad, stock.maxOutOfPlaneRad, quaternion.maxSeparation,
+			stock.maxSeparation, quaternion.maxMisalignmentDeg, stock.maxMisalignmentDeg);
 		ASSERT_FALSE(stock.blewUp);
 		ASSERT_FALSE(quaternion.blewUp);
 		ASSERT_EQ(quaternion.steps, 3000);
@@ -145,9 +146,9 @@ TEST(RowBasis, EveryBasisWritesTheSameConstraint)
 							  btTransform(btQuaternion(btVector3(1, 2, 3).normalized(), btScalar(0.3)),
 										  btVector3(btScalar(0.2), btScalar(0.9), btScalar(0.1))));
 	auto* joint = w.add(new btQuaternionHingeConstraint(*a, *b, btVector3(btScalar(0.1), btScalar(0.5), btScalar(0.2)),
-														 btVector3(0, btScalar(-0.4), btScalar(-0.1)),
-														 btVector3(0, 0, 1), btVector3(0, 0, 1)));
-	auto rowsOf = [&](quathinge::RowBasis basis, bool angularFirst, double (&j)[5][12], double (&e)[5]) {
+														btVector3(0, btScalar(-0.4), btScalar(-0.1)),
+														btVector3(0, 0, 1), btVector3(0, 0, 1)));
+	auto rowsOf = [&](quathinge::RowBasis basis, bool angularFirst, double(&j)[5][12], double(&e)[5]) {
 		quathinge::SolverRowBasisAccess::set(*joint, basis, angularFirst);
 		btTypedConstraint::btConstraintInfo1 info1;
 		joint->getInfo1(&info1);

@@ -23,7 +23,7 @@ namespace
 // Relative error of a row entry against its central difference, per unit of max(1, |row|): 1e-6 in double, 1e-3 in
 // float. The step balances truncation O(ε²·C''') against round-off O(eps/ε): ε = 1e-5 rad (or m) in double, the cube
 // root of float's epsilon (≈ 4.9e-3) in float.
-const double kFdRelTol = qh_test::kDouble ? 1e-6 : 1e-3;  // dimensionless
+const double kFdRelTol = qh_test::kDouble ? 1e-6 : 1e-3;                                              // dimensionless
 const btScalar kStep = qh_test::kDouble ? btScalar(1e-5) : btScalar(std::cbrt(double(FLT_EPSILON)));  // rad or m
 // C is not differentiable on the switching surface φ = 90° (the Q7 form hands over to the log form, Q12) nor at the
 // exact flip φ = π: configurations within 1e-3 rad of either are skipped — and in float also those whose difference
@@ -153,9 +153,10 @@ TEST(JacobianFiniteDifference, AngularRowsAreTheDerivativeOfC)
 		worst = std::max(worst, here);
 		++checked;
 	}
-	std::printf("[ figures  ] angular rows vs FD (step ≤ %.3g): worst relative error %.3g (Q7 form %.3g, log form %.3g) "
-				"over %d configurations (%d log form, %d skipped near φ = 90° or π)\n",
-				double(kStep), worst, worstQ7, worstLog, checked, logForm, skipped);
+	std::printf(
+		"[ figures  ] angular rows vs FD (step ≤ %.3g): worst relative error %.3g (Q7 form %.3g, log form %.3g) "
+		"over %d configurations (%d log form, %d skipped near φ = 90° or π)\n",
+		double(kStep), worst, worstQ7, worstLog, checked, logForm, skipped);
 	EXPECT_GE(checked, 500);
 	EXPECT_GT(logForm, 100);  // the flipped hemisphere was exercised
 	EXPECT_LT(worst, kFdRelTol);
@@ -221,9 +222,9 @@ namespace
 struct DecodedRows
 {
 	int n = 0;
-	double c[5] = {};        // C, unrotated (point: p_B − p_A along world x, y, z; quaternion: Q4/Q9 or Q12, in the
-							 // independent computation's quaternion sign)
-	btVector3 jac[4][5];     // per row: linA, angA, linB, angB, unrotated
+	double c[5] = {};          // C, unrotated (point: p_B − p_A along world x, y, z; quaternion: Q4/Q9 or Q12, in the
+							   // independent computation's quaternion sign)
+	btVector3 jac[4][5];       // per row: linA, angA, linB, angB, unrotated
 	double orthogonality = 0;  // max |MᵀM − I| over both blocks
 	btVector3 angularRowB[2];  // the independent rows (to align the quaternion sign between poses, Q3)
 	double independentC[2];    // the independent Q4/Q12 value at the same pose
@@ -420,9 +421,10 @@ TEST(JacobianFiniteDifference, JointRowsThroughGetInfo2MatchFiniteDifferences)
 		}
 		++checked;
 	}
-	std::printf("[ figures  ] joint rows (getInfo2) vs FD: worst relative error %.3g over %d joints; C recovered from "
-				"the error term vs p_B − p_A and Q4: %.3g; row-space rotation orthogonal to %.3g\n",
-				worst, checked, worstValue, worstOrthogonality);
+	std::printf(
+		"[ figures  ] joint rows (getInfo2) vs FD: worst relative error %.3g over %d joints; C recovered from "
+		"the error term vs p_B − p_A and Q4: %.3g; row-space rotation orthogonal to %.3g\n",
+		worst, checked, worstValue, worstOrthogonality);
 	EXPECT_GE(checked, 200);
 	EXPECT_LT(worst, kFdRelTol);
 	EXPECT_LT(worstValue, kRecoverTol);
@@ -552,9 +554,10 @@ TEST(JacobianFiniteDifference, PositionRowsForStabilizersAreTheDerivativeOfTheir
 		}
 		++checked;
 	}
-	std::printf("[ figures  ] position rows (computePositionRows) vs FD: worst relative error %.3g over %d joints; C vs "
-				"p_B − p_A and Q4: %.3g\n",
-				worst, checked, worstValue);
+	std::printf(
+		"[ figures  ] position rows (computePositionRows) vs FD: worst relative error %.3g over %d joints; C vs "
+		"p_B − p_A and Q4: %.3g\n",
+		worst, checked, worstValue);
 	EXPECT_GE(checked, 100);
 	EXPECT_LT(worst, kFdRelTol);
 	EXPECT_LT(worstValue, kRecoverTol);

@@ -121,8 +121,8 @@ TEST(Limits, MotorDrivenIntoTheStopIsHeld)
 {
 	// A motor pushing toward +∞ stops at the upper limit and stays there; its row saturates at +maxImpulse while the
 	// limit row takes the opposite impulse.
-	const btScalar kMaxImpulse = 2;                                     // N·m·s per step
-	const double kImpulseTol = qh_test::kDouble ? 1e-9 : 1e-4;          // N·m·s: converged, up to round-off
+	const btScalar kMaxImpulse = 2;                             // N·m·s per step
+	const double kImpulseTol = qh_test::kDouble ? 1e-9 : 1e-4;  // N·m·s: converged, up to round-off
 	auto* recorder = new RecordingSolver;
 	Wheel w(0, std::unique_ptr<btConstraintSolver>(recorder));
 	w.hinge->setLimit(btScalar(-0.5), btScalar(0.5));

@@ -67,9 +67,10 @@ TEST(MatchedStates, OnGazebosWorldTheRowsSeparateAsStocksFromTheSameStates)
 			ASSERT_FALSE(run.blewUp);
 			ASSERT_EQ(run.steps, 3000);
 			const double ratio = separationRatio(run, stockLeads);
-			std::printf("[ figures  ] inertia_ratio %d iterations, on %s's states: max separation quaternion / stock "
-						"%.3f\n",
-						iterations, stockLeads ? "stock" : "the quaternion hinge", ratio);
+			std::printf(
+				"[ figures  ] inertia_ratio %d iterations, on %s's states: max separation quaternion / stock "
+				"%.3f\n",
+				iterations, stockLeads ? "stock" : "the quaternion hinge", ratio);
 			EXPECT_LE(ratio, kBound) << iterations << " iterations, " << (stockLeads ? "stock" : "quaternion")
 									 << " leading";
 		}
@@ -107,9 +108,10 @@ TEST(MatchedStates, TheGazeboWhipIsTheScenesMotion)
 	const Whip reference = lightLinkWhip(scene, Kind::MultiBody, 50);
 	const Whip quaternion = lightLinkWhip(scene, Kind::Quaternion, 50);
 	const Whip stock = lightLinkWhip(scene, Kind::Stock, 50);
-	std::printf("[ figures  ] inertia_ratio 50 iterations, the light link's largest rate: multibody %.1f rad/s at "
-				"%.3f s, quaternion %.1f at %.3f s, stock %.1f at %.3f s\n",
-				reference.rate, reference.time, quaternion.rate, quaternion.time, stock.rate, stock.time);
+	std::printf(
+		"[ figures  ] inertia_ratio 50 iterations, the light link's largest rate: multibody %.1f rad/s at "
+		"%.3f s, quaternion %.1f at %.3f s, stock %.1f at %.3f s\n",
+		reference.rate, reference.time, quaternion.rate, quaternion.time, stock.rate, stock.time);
 	EXPECT_NEAR(quaternion.rate, reference.rate, 0.1 * reference.rate);  // rad/s
 	EXPECT_NEAR(quaternion.time, reference.time, 0.010);                 // s
 }

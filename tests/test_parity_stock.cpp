@@ -108,10 +108,11 @@ Trajectory run(const Scene& scene, bool quaternion, int form, bool refA)
 
 void printComparison(const Scene& scene, int form, bool refA, const Trajectory& stock, const Trajectory& quat, double worst)
 {
-	std::printf("[ figures  ] %s, form %d refA %d: max angle difference %.3g rad; max separation stock %.3g m, "
-				"quaternion %.3g m; max misalignment stock %.3g deg, quaternion %.3g deg\n",
-				scene.name, form, int(refA), worst, stock.maxSeparation, quat.maxSeparation, stock.maxMisalignment,
-				quat.maxMisalignment);
+	std::printf(
+		"[ figures  ] %s, form %d refA %d: max angle difference %.3g rad; max separation stock %.3g m, "
+		"quaternion %.3g m; max misalignment stock %.3g deg, quaternion %.3g deg\n",
+		scene.name, form, int(refA), worst, stock.maxSeparation, quat.maxSeparation, stock.maxMisalignment,
+		quat.maxMisalignment);
 }
 }  // namespace
 

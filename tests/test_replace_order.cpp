@@ -124,10 +124,11 @@ TEST(ReplaceHingeConstraints, SpiderSolvedInStocksOrderIsWithinTheIssuesBound)
 	ASSERT_TRUE(quaternion.skipped.empty()) << quaternion.skipped;
 	const double separation = quaternion.maxSeparation / stock.maxSeparation;
 	const double misalignment = quaternion.rmsMisalignmentDeg / stock.rmsMisalignmentDeg;
-	std::printf("[ figures  ] spider, %d iterations, quaternion / stock: max separation %.3f (%.4g / %.4g m), RMS "
-				"misalignment %.3f (%.3g / %.3g deg)\n",
-				kIterations, separation, quaternion.maxSeparation, stock.maxSeparation, misalignment,
-				quaternion.rmsMisalignmentDeg, stock.rmsMisalignmentDeg);
+	std::printf(
+		"[ figures  ] spider, %d iterations, quaternion / stock: max separation %.3f (%.4g / %.4g m), RMS "
+		"misalignment %.3f (%.3g / %.3g deg)\n",
+		kIterations, separation, quaternion.maxSeparation, stock.maxSeparation, misalignment,
+		quaternion.rmsMisalignmentDeg, stock.rmsMisalignmentDeg);
 	EXPECT_LE(separation, kMaxSeparationRatio);
 	EXPECT_LE(misalignment, kRmsMisalignmentRatio);
 }

@@ -107,7 +107,7 @@ TEST(RowReservation, LimitActivatingBetweenInfo1AndInfo2StaysInsideTheReservatio
 									   btVector3(0, 0, 0));
 			EXPECT_TRUE(rows.guardIntact()) << "motor " << motor;
 			EXPECT_EQ(rows.written(), info1.m_numConstraintRows) << "motor " << motor;  // the limit row is there
-			EXPECT_EQ(p.hinge.getLimitSign(), -1);                                     // at the upper stop
+			EXPECT_EQ(p.hinge.getLimitSign(), -1);                                      // at the upper stop
 			const int last = info1.m_numConstraintRows - 1;                             // the limit row comes last
 			EXPECT_EQ(rows.upper[size_t(last * kSkip)], 0);                             // upper stop: impulse ≤ 0
 		}

@@ -136,11 +136,11 @@ TEST(QuaternionRows, TrajectoryDoesNotDependOnTheQuaternionSign)
 	// Q7), so 10 Gauss–Seidel sweeps differ at second order in the swing: (3° / 2)² ≈ 7e-4 of the ≈ 0.6 rad/s
 	// correction (erp·fps·φ), ≈ 4e-4 rad/s. A row whose sign disagreed with its error would push the wrong way by
 	// that whole 0.6 rad/s.
-	const double kVelocityTol = 1e-3;  // rad/s (and m/s)
-	const double kPositionTol = 1e-3;  // m: the velocity bound over the 1 s run
-	const double kStartAngleTol = 1e-5;   // rad: the angle the scene was built at, read back
-	const double kTurnCountTol = 1e-3;    // rad: multi-turn angle against the integrated spin
-	const double kAlignedDeg = 0.1;       // degrees: misalignment left after 1 s
+	const double kVelocityTol = 1e-3;    // rad/s (and m/s)
+	const double kPositionTol = 1e-3;    // m: the velocity bound over the 1 s run
+	const double kStartAngleTol = 1e-5;  // rad: the angle the scene was built at, read back
+	const double kTurnCountTol = 1e-3;   // rad: multi-turn angle against the integrated spin
+	const double kAlignedDeg = 0.1;      // degrees: misalignment left after 1 s
 	SpinningBall nearPi(kPi - btScalar(0.3), 0), nearZero(kPi - btScalar(0.3), kPi);
 	EXPECT_NEAR(nearPi.hinge->getHingeAngle(), kPi - 0.3, kStartAngleTol);
 	EXPECT_NEAR(nearZero.hinge->getHingeAngle(), -0.3, kStartAngleTol);
@@ -165,9 +165,10 @@ TEST(QuaternionRows, TrajectoryDoesNotDependOnTheQuaternionSign)
 		previousPi = qPi;
 		previousZero = qZero;
 	}
-	std::printf("[ figures  ] spin through π vs the same joint offset by π: max velocity difference %.3g, position "
-				"difference %.3g m; misalignment from %g deg: max %.3g, final %.3g deg; quaternion sign flips %d and %d\n",
-				maxDv, maxDx, kTiltDeg, maxMis, finalMis, signFlipsPi, signFlipsZero);
+	std::printf(
+		"[ figures  ] spin through π vs the same joint offset by π: max velocity difference %.3g, position "
+		"difference %.3g m; misalignment from %g deg: max %.3g, final %.3g deg; quaternion sign flips %d and %d\n",
+		maxDv, maxDx, kTiltDeg, maxMis, finalMis, signFlipsPi, signFlipsZero);
 	EXPECT_GE(signFlipsPi, 1);  // the case under test happened
 	EXPECT_GE(signFlipsZero, 1);
 	EXPECT_LT(maxDv, kVelocityTol);

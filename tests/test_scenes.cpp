@@ -107,7 +107,7 @@ TEST(Scenes, MetricsMeasureHandComputedErrors)
 	EXPECT_NEAR(m.maxSeparation, 0.1, kLengthTol);
 	EXPECT_NEAR(m.rmsSeparation, 0.1, kLengthTol);
 	EXPECT_NEAR(m.maxMisalignmentDeg, 0.0, 1e-3);
-	EXPECT_EQ(m.steps, 6);  // 0.1 s at 60 Hz
+	EXPECT_EQ(m.steps, 6);        // 0.1 s at 60 Hz
 	EXPECT_EQ(m.rowsPerStep, 5);  // stock hinge without limit or motor: 3 point rows + 2 angular rows
 	EXPECT_FALSE(isTree([] {
 		SceneSpec loop = makeScene("four_bar");
@@ -173,7 +173,7 @@ TEST(Scenes, DrivesAreTorquesAtEveryStep)
 		const Metrics slow = runScene(scene, kind, settings);
 		settings.dt = 1.0 / 240;
 		const Metrics fast = runScene(scene, kind, settings);
-		const double kAngleTol = 0.05;  // rad: the spin-up (0.03 s) is resolved differently by the two steps
+		const double kAngleTol = 0.05;                             // rad: the spin-up (0.03 s) is resolved differently by the two steps
 		EXPECT_NEAR(slow.finalTheta, 2.9, 0.1) << kindName(kind);  // ≈ 6 rad/s × 0.5 s, less the spin-up
 		EXPECT_NEAR(slow.finalTheta, fast.finalTheta, kAngleTol) << kindName(kind);
 	}
@@ -199,7 +199,7 @@ TEST(Scenes, LimitsAndServosMeanTheSameAngleInEveryKind)
 		EXPECT_NEAR(m.finalTheta, 0.525, 0.1) << kindName(kind);  // rad
 		settings.duration = 2.5;                                  // 1.2 rad at 2 rad/s, then held
 		const Metrics l = runScene(lift, kind, settings);
-		EXPECT_NEAR(l.finalTheta, 1.2, 0.06) << kindName(kind);   // rad: held against gravity within 3°
+		EXPECT_NEAR(l.finalTheta, 1.2, 0.06) << kindName(kind);  // rad: held against gravity within 3°
 	}
 }
 
@@ -265,7 +265,7 @@ TEST(Scenes, ServoHoldsAtEveryStepInEveryKind)
 	// 4× the torque at 240 Hz and lift faster and higher there.
 	SceneSpec weak = lift;
 	weak.joints[0].maxEffort = 62;  // N·m
-	weak.duration = 0.5;  // mid-lift: θ(0.5 s) measures the torque, not only where it stalls
+	weak.duration = 0.5;            // mid-lift: θ(0.5 s) measures the torque, not only where it stalls
 	double stockAt[2] = {0, 0};
 	for (Kind kind : {Kind::Stock, Kind::Generic6Dof2, Kind::Quaternion, Kind::MultiBody})
 	{

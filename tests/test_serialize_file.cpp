@@ -53,7 +53,7 @@ struct Scene
 		b2 = world.addBox(1, btVector3(1, btScalar(0.5), 1), btTransform(btQuaternion::getIdentity(), btVector3(0, -4, 0)));
 		b3 = world.addBox(2, btVector3(1, btScalar(0.5), 1), btTransform(btQuaternion::getIdentity(), btVector3(0, -6, 0)));
 		motorised = world.add(new btQuaternionHingeConstraint(*base, *b1, btVector3(0, -1, 0), btVector3(0, 1, 0),
-																btVector3(0, 0, 1), btVector3(0, 0, 1)));
+															  btVector3(0, 0, 1), btVector3(0, 0, 1)));
 		motorised->setLimit(btScalar(-0.5), btScalar(1.2), btScalar(0.8), btScalar(0.25), btScalar(0.9));
 		motorised->enableAngularMotor(true, btScalar(1.5), btScalar(4));
 		motorised->setBreakingImpulseThreshold(500);

@@ -230,9 +230,10 @@ TEST(StabilizerAttached, AWeldAndASixDofWithItsOffsetLockedHoldWhenClosed)
 		return std::vector<double>{weldWorst, weldTurn, sixWorst, double(closed)};
 	};
 	const std::vector<double> bare = run(false), held = run(true);
-	std::printf("[ measured ] weld apart / turned, 6-dof off its offset, max over 1 s: no stabilizer %.3g m, %.3g rad, "
-				"%.3g m; closed %.3g m, %.3g rad, %.3g m\n",
-				bare[0], bare[1], bare[2], held[0], held[1], held[2]);
+	std::printf(
+		"[ measured ] weld apart / turned, 6-dof off its offset, max over 1 s: no stabilizer %.3g m, %.3g rad, "
+		"%.3g m; closed %.3g m, %.3g rad, %.3g m\n",
+		bare[0], bare[1], bare[2], held[0], held[1], held[2]);
 	ASSERT_GT(bare[0], 1e-3) << "the test needs a weld Bullet's solver leaves apart";
 	ASSERT_GT(bare[2], 1e-3) << "the test needs a 6-dof Bullet's solver leaves off its offset";
 	EXPECT_EQ(held[3], 2);
@@ -259,9 +260,10 @@ TEST(StabilizerAttached, OverARunTheCordHoldsAsWithoutTheStabilizer)
 		return worst;
 	};
 	const double bare = run(0), leftBehind = run(1), carried = run(2), closed = run(3);
-	std::printf("[ measured ] cord separation, max over 3 s: no stabilizer %.3g m, stabilizer %.3g m, carried %.3g m, "
-				"closed %.3g m\n",
-				bare, leftBehind, carried, closed);
+	std::printf(
+		"[ measured ] cord separation, max over 3 s: no stabilizer %.3g m, stabilizer %.3g m, carried %.3g m, "
+		"closed %.3g m\n",
+		bare, leftBehind, carried, closed);
 	EXPECT_LE(carried, 1.2 * bare + 1e-3);
 	EXPECT_GT(leftBehind, carried);
 	EXPECT_LE(closed, kSeparationTolerance);
@@ -287,10 +289,11 @@ TEST(StabilizerAttached, PandasFingersAreNotLeftBehindByTheStabilizer)
 	const auto leftBehind = run(Kind::QuaternionStabilized, false);
 	const auto carried = run(Kind::QuaternionStabilized, true);
 	const auto closed = run(Kind::QuaternionStabilized, true, true);
-	std::printf("[ measured ] panda fingers off their slides: bare %.3g m, stabilizer %.3g m, carried %.3g m, "
-				"closed %.3g m (hinges %.3g, %.3g, %.3g, %.3g m)\n",
-				bare.first, leftBehind.first, carried.first, closed.first, bare.second, leftBehind.second,
-				carried.second, closed.second);
+	std::printf(
+		"[ measured ] panda fingers off their slides: bare %.3g m, stabilizer %.3g m, carried %.3g m, "
+		"closed %.3g m (hinges %.3g, %.3g, %.3g, %.3g m)\n",
+		bare.first, leftBehind.first, carried.first, closed.first, bare.second, leftBehind.second,
+		carried.second, closed.second);
 	EXPECT_LE(carried.second, 1e-4);  // m: the stabilizer still holds every hinge (the scene test's bound)
 	EXPECT_GT(leftBehind.first, 2 * carried.first) << "carrying them at least halves how far they are left behind";
 	// closed, the fingers hold their slide line like the projected hinges (the scene test's bound), far inside the

@@ -74,7 +74,7 @@ TEST(Stabilizer, ViolatedLimitIsProjectedBackToItsStop)
 		worstExcess = std::max(worstExcess, btFabs(angle) - upper);
 		if (stabilizer.getLastStats().activeLimitRows > 0) ++stepsAtStop;
 	}
-	EXPECT_GT(stepsAtStop, 0);                            // the limit row was projected
+	EXPECT_GT(stepsAtStop, 0);                             // the limit row was projected
 	EXPECT_LE(worstExcess, btScalar(kResidualTolerance));  // rad past the stop
 }
 
@@ -104,7 +104,7 @@ TEST(Stabilizer, IslandsWithAndWithoutLimitsConvergeInOneWorld)
 	std::vector<btRigidBody*> unlimited = scene.chain(6, 1, 5);  // no limits: 5-row blocks
 	const size_t firstLimited = scene.hinges().size();
 	std::vector<btRigidBody*> limited = scene.chain(6);  // every hinge limited: 6-row blocks
-	const btScalar stop = btScalar(0.25);                       // rad: the horizontal chain falls past it at once
+	const btScalar stop = btScalar(0.25);                // rad: the horizontal chain falls past it at once
 	for (size_t i = firstLimited; i < scene.hinges().size(); ++i) scene.hinges()[i]->setLimit(-stop, stop);
 	// Both chains assembled off their joints (4 cm, 10°): one stabilize() call removes both errors.
 	for (btRigidBody* link : {unlimited[3], limited[3]})

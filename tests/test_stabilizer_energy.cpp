@@ -108,14 +108,15 @@ TEST(Stabilizer, ConserveEnergyHoldsAPendulumsEnergyAndPeriod)
 	// the kinetic energy is too small to carry the deficit within the 10% per-step cap; without the option the RMS
 	// error is over 50%). Period: better than without the option, and within 1% of the elliptic-integral value.
 	const double kEnergyRmsTol = 1e-2;   // of m g d
-	const double kPeriodTol = 0.01;   // relative
+	const double kPeriodTol = 0.01;      // relative
 	const double kSeparationTol = 1e-5;  // m, the stabilizer's own target
 	const PendulumRun off = runPendulum(false);
 	const PendulumRun on = runPendulum(true);
-	std::printf("[ figures  ] pendulum 10 s at 60 Hz with the stabilizer: energy drift %.3g (off) vs %.3g (on) of m g d; "
-				"RMS %.3g vs %.3g; period error %.3g vs %.3g; max separation %.3g vs %.3g m; largest velocity scaling %.3g\n",
-				off.energyDrift, on.energyDrift, off.energyRms, on.energyRms, off.periodError, on.periodError, off.maxSeparation, on.maxSeparation,
-				on.maxCorrection);
+	std::printf(
+		"[ figures  ] pendulum 10 s at 60 Hz with the stabilizer: energy drift %.3g (off) vs %.3g (on) of m g d; "
+		"RMS %.3g vs %.3g; period error %.3g vs %.3g; max separation %.3g vs %.3g m; largest velocity scaling %.3g\n",
+		off.energyDrift, on.energyDrift, off.energyRms, on.energyRms, off.periodError, on.periodError, off.maxSeparation, on.maxSeparation,
+		on.maxCorrection);
 	EXPECT_LT(on.energyRms, kEnergyRmsTol);
 	EXPECT_LT(on.periodError, off.periodError);
 	EXPECT_LT(on.periodError, kPeriodTol);
@@ -150,11 +151,13 @@ TEST(Stabilizer, ConserveEnergyTakesBackTheWorkOfAPush)
 	};
 	double workOff = 0, workOn = 0;
 	const double gainOff = run(false, workOff), gainOn = run(true, workOn);
-	std::printf("[ figures  ] a pushed pendulum: energy gained %.3g J of %.3g J of work without conserveEnergy, %.3g J of "
-				"%.3g J with it\n", gainOff, workOff, gainOn, workOn);
-	EXPECT_GT(workOn, 5.0);              // J: the push did work in both runs
-	EXPECT_GT(gainOff, 0.2 * workOff);   // without the option the push shows (a third of it here)
-	EXPECT_LT(gainOn, 0.05 * workOn);    // with it, the push is taken back
+	std::printf(
+		"[ figures  ] a pushed pendulum: energy gained %.3g J of %.3g J of work without conserveEnergy, %.3g J of "
+		"%.3g J with it\n",
+		gainOff, workOff, gainOn, workOn);
+	EXPECT_GT(workOn, 5.0);             // J: the push did work in both runs
+	EXPECT_GT(gainOff, 0.2 * workOff);  // without the option the push shows (a third of it here)
+	EXPECT_LT(gainOn, 0.05 * workOn);   // with it, the push is taken back
 }
 
 #endif  // QUATHINGE_HAVE_STABILIZER

@@ -51,9 +51,9 @@ double kinetic(const btRigidBody& b)
 
 struct PendulumFigures
 {
-	double worstStep = 0;    // max |E − E₀| / (m g d) over the steps
-	double worstSwing = 0;   // max |mean E over a swing − E₀| / (m g d) over the swings
-	double periodError = 0;  // |T − T_exact| / T_exact over the first 10 periods
+	double worstStep = 0;      // max |E − E₀| / (m g d) over the steps
+	double worstSwing = 0;     // max |mean E over a swing − E₀| / (m g d) over the swings
+	double periodError = 0;    // |T − T_exact| / T_exact over the first 10 periods
 	double maxSeparation = 0;  // m
 	int swings = 0;
 };
@@ -192,14 +192,15 @@ TEST(StabilizerEnergy, ABarPendulumKeepsItsSwingEnergyAndPeriodAt60Hz)
 {
 	// A frictionless bar pendulum released at 90°, 60 s at 60 Hz: the projection does no work, so what is left is
 	// Bullet's semi-implicit Euler, whose energy oscillates within a swing (about ±3% at 60 Hz) without drifting.
-	const double kSwingTol = 0.01;     // of m g d: the energy averaged over each swing
-	const double kStepTol = 0.05;      // of m g d: the energy at every step
-	const double kPeriodTol = 1e-3;    // relative, the first 10 periods against the elliptic integral
+	const double kSwingTol = 0.01;   // of m g d: the energy averaged over each swing
+	const double kStepTol = 0.05;    // of m g d: the energy at every step
+	const double kPeriodTol = 1e-3;  // relative, the first 10 periods against the elliptic integral
 	const PendulumFigures off = swingBar(false, 60, 60), on = swingBar(true, 60, 60);
-	std::printf("[ figures  ] bar pendulum 60 s at 60 Hz: worst swing-averaged energy %.3g (before %.3g) of m g d, worst "
-				"step %.3g (before %.3g), period error %.3g (before %.3g), %d swings, max separation %.3g m\n",
-				on.worstSwing, off.worstSwing, on.worstStep, off.worstStep, on.periodError, off.periodError, on.swings,
-				on.maxSeparation);
+	std::printf(
+		"[ figures  ] bar pendulum 60 s at 60 Hz: worst swing-averaged energy %.3g (before %.3g) of m g d, worst "
+		"step %.3g (before %.3g), period error %.3g (before %.3g), %d swings, max separation %.3g m\n",
+		on.worstSwing, off.worstSwing, on.worstStep, off.worstStep, on.periodError, off.periodError, on.swings,
+		on.maxSeparation);
 	EXPECT_GE(on.swings, 60);  // it swings for the whole minute (each swing ≈ 0.93 s)
 	EXPECT_LT(on.worstSwing, kSwingTol);
 	EXPECT_LT(on.worstStep, kStepTol);
@@ -230,12 +231,13 @@ TEST(StabilizerEnergy, AFreeSpinningChainKeepsItsMomentum)
 		const FreeFigures bare = spinFreeChain(cubes, false, false);
 		const FreeFigures off = spinFreeChain(cubes, true, false);
 		const FreeFigures on = spinFreeChain(cubes, true, true);
-		std::printf("[ figures  ] free chain of 3 %s links, 10 s: momentum drift %.3g (before %.3g, bare %.3g), angular "
-					"momentum %.3g (before %.3g, bare %.3g), kinetic energy %.3g (before %.3g, bare %.3g), max separation "
-					"%.3g m (bare %.3g m)\n",
-					cubes ? "cube" : "thin", on.momentum, off.momentum, bare.momentum, on.angularMomentum,
-					off.angularMomentum, bare.angularMomentum, on.kineticEnergy, off.kineticEnergy, bare.kineticEnergy,
-					on.maxSeparation, bare.maxSeparation);
+		std::printf(
+			"[ figures  ] free chain of 3 %s links, 10 s: momentum drift %.3g (before %.3g, bare %.3g), angular "
+			"momentum %.3g (before %.3g, bare %.3g), kinetic energy %.3g (before %.3g, bare %.3g), max separation "
+			"%.3g m (bare %.3g m)\n",
+			cubes ? "cube" : "thin", on.momentum, off.momentum, bare.momentum, on.angularMomentum,
+			off.angularMomentum, bare.angularMomentum, on.kineticEnergy, off.kineticEnergy, bare.kineticEnergy,
+			on.maxSeparation, bare.maxSeparation);
 		EXPECT_LT(on.momentum, kMomentumTol);
 		EXPECT_LT(on.kineticEnergy, off.kineticEnergy);
 		EXPECT_LT(on.maxSeparation, kSeparationTolerance);

@@ -31,8 +31,8 @@ TEST(StabilizerEnergyScenes, ConservativeScenesDriftLessThanStock)
 	// Energy drift (max |E − E₀| over the scene's energy scale, Metrics::energyDrift) at most stock's and at most
 	// kDriftTol; double_pendulum (0.095) and four_bar (0.071, a closed loop) are below stock's but above kDriftTol
 	// (docs/ENERGY.md): they are held to stock's only.
-	const double kDriftTol = 0.05;        // of the energy scale
-	const double kSeparationTol = 1e-5;   // m
+	const double kDriftTol = 0.05;       // of the energy scale
+	const double kSeparationTol = 1e-5;  // m
 	for (const char* name : {"pendulum", "double_pendulum", "four_bar", "pendulum5", "chain10", "chain30", "rotor100"})
 	{
 		const Metrics stock = run(name, Kind::Stock), stab = run(name, Kind::QuaternionStabilized);
@@ -117,10 +117,11 @@ TEST(StabilizerEnergyScenes, RestingBodiesStillFallAsleep)
 	const Settling ragdollOff = settle(ragdollScene(1), false, kSeconds), ragdollOn = settle(ragdollScene(1), true, kSeconds);
 	const Settling chainsOff = settle(restScene(50, 10, true), false, kSeconds),
 				   chainsOn = settle(restScene(50, 10, true), true, kSeconds);
-	std::printf("[ figures  ] time to sleep: ragdoll %.3g s (before %.3g s), 50 chains at rest %.3g s (before %.3g s); "
-				"RMS speed while settling: ragdoll %.3g m/s (before %.3g), chains %.3g m/s (before %.3g)\n",
-				ragdollOn.sleepTime, ragdollOff.sleepTime, chainsOn.sleepTime, chainsOff.sleepTime, ragdollOn.jitter,
-				ragdollOff.jitter, chainsOn.jitter, chainsOff.jitter);
+	std::printf(
+		"[ figures  ] time to sleep: ragdoll %.3g s (before %.3g s), 50 chains at rest %.3g s (before %.3g s); "
+		"RMS speed while settling: ragdoll %.3g m/s (before %.3g), chains %.3g m/s (before %.3g)\n",
+		ragdollOn.sleepTime, ragdollOff.sleepTime, chainsOn.sleepTime, chainsOff.sleepTime, ragdollOn.jitter,
+		ragdollOff.jitter, chainsOn.jitter, chainsOff.jitter);
 	if (ragdollOff.sleepTime > 0)
 	{
 		EXPECT_GT(ragdollOn.sleepTime, 0);

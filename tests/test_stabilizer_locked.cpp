@@ -79,7 +79,7 @@ TEST(StabilizerLocked, RowsAreTheDerivativeOfC)
 	// Central differences of C under small translations and rotations (about world axes through the centre of mass) of
 	// either body, against J's columns, over seeded random bodies, frames and locks: near the locked pose and up to
 	// 2 rad off it. Relative error per max(1, |entry|): 1e-6 in double, 2e-3 in float (step 1e-5, or float's ε^⅓).
-	const double tolerance = kDouble ? 1e-6 : 2e-3;  // dimensionless
+	const double tolerance = kDouble ? 1e-6 : 2e-3;                                          // dimensionless
 	const btScalar h = kDouble ? btScalar(1e-5) : btScalar(std::cbrt(double(FLT_EPSILON)));  // m or rad
 	std::mt19937 rng(7);
 	std::uniform_real_distribution<double> u(-1, 1);
@@ -210,15 +210,16 @@ TEST(StabilizerLocked, SliderAndWeldHoldWithTheHingesWithTheOptionAndNotWithout)
 	double onHinges, onDistance, onAngle, offHinges, offDistance, offAngle;
 	on.run(onHinges, onDistance, onAngle);
 	off.run(offHinges, offDistance, offAngle);
-	std::printf("[ figures  ] slider chain, largest error: option on hinges %.2e m, locked %.2e m %.2e rad; off hinges "
-				"%.2e m, locked %.2e m %.2e rad\n",
-				onHinges, onDistance, onAngle, offHinges, offDistance, offAngle);
+	std::printf(
+		"[ figures  ] slider chain, largest error: option on hinges %.2e m, locked %.2e m %.2e rad; off hinges "
+		"%.2e m, locked %.2e m %.2e rad\n",
+		onHinges, onDistance, onAngle, offHinges, offDistance, offAngle);
 	EXPECT_EQ(locked.getLastStats().joints, 4);
 	EXPECT_EQ(locked.getLastStats().islands, 1);
 	EXPECT_EQ(hingesOnly.getLastStats().joints, 2);
 	EXPECT_LE(onHinges, kSeparationTolerance);
 	EXPECT_LE(onDistance, kSeparationTolerance);
-	EXPECT_LE(onAngle, 10 * kSeparationTolerance);  // rad: the tolerance of an angular row (float: 1e-5 m ↔ 1e-4 rad)
+	EXPECT_LE(onAngle, 10 * kSeparationTolerance);       // rad: the tolerance of an angular row (float: 1e-5 m ↔ 1e-4 rad)
 	EXPECT_GT(offDistance, 100 * kSeparationTolerance);  // the solver alone leaves them apart
 	EXPECT_EQ(locked.getLastStats().numericalIssues, 0);
 	ASSERT_TRUE(on.scene.allFinite());

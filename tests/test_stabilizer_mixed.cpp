@@ -26,7 +26,7 @@ enum class Kind
 	Stock,
 	Quaternion,
 	QuaternionStabilized,
-	QuaternionStabilizedPoints,  // projectPointConstraints: the cone twists' pivots projected with the hinges
+	QuaternionStabilizedPoints,   // projectPointConstraints: the cone twists' pivots projected with the hinges
 	QuaternionStabilizedContacts  // … and projectContacts: the contacts too (ground and part against part)
 };
 
@@ -264,10 +264,11 @@ private:
 
 void print(const char* kind, const Figures& f)
 {
-	std::printf("[ mixed    ] %-16s largest over 4 s (mean of each step's largest over the last 2 s), m: cone-twist separation %.2e (%.2e), hinge "
-				"separation %.2e (at the end %.2e), ground penetration %.2e (%.2e), part-part penetration %.2e (%.2e)\n",
-				kind, f.coneSeparation, f.coneSeparationLate, f.hingeSeparation, f.hingeSeparationEnd, f.groundPenetration,
-				f.groundPenetrationLate, f.bodyPenetration, f.bodyPenetrationLate);
+	std::printf(
+		"[ mixed    ] %-16s largest over 4 s (mean of each step's largest over the last 2 s), m: cone-twist separation %.2e (%.2e), hinge "
+		"separation %.2e (at the end %.2e), ground penetration %.2e (%.2e), part-part penetration %.2e (%.2e)\n",
+		kind, f.coneSeparation, f.coneSeparationLate, f.hingeSeparation, f.hingeSeparationEnd, f.groundPenetration,
+		f.groundPenetrationLate, f.bodyPenetration, f.bodyPenetrationLate);
 }
 
 // The mean over the variants of each run's figures.
@@ -346,7 +347,7 @@ TEST(StabilizerMixed, RagdollDemoWithItsConeTwistsProjectedHoldsEveryJoint)
 	EXPECT_LE(points.hingeSeparationEnd, kSeparationTolerance);
 	EXPECT_LT(points.coneSeparation, 1e-3 * bare.coneSeparation);
 	const double kMeasuredRatio = 2.0;  // late ground penetration measured 1.2–1.9× bare (float and double, 8 and 32 spins)
-	const double kSlack = 1e-3;          // m, as above
+	const double kSlack = 1e-3;         // m, as above
 	EXPECT_LE(points.groundPenetrationLate, kMeasuredRatio * bare.groundPenetrationLate + kSlack);
 	EXPECT_LE(points.bodyPenetrationLate, kMeasuredRatio * bare.bodyPenetrationLate + kSlack);
 	EXPECT_LE(points.groundPenetration, kMeasuredRatio * bare.groundPenetration + kSlack);

@@ -110,9 +110,10 @@ TEST(StabilizerPoints, MixedChainHoldsAtEveryJointWithTheOptionAndOnlyAtItsHinge
 	double onHinge, onPoint, offHinge, offPoint;
 	on.run(onHinge, onPoint);
 	off.run(offHinge, offPoint);
-	std::printf("[ figures  ] mixed chain, largest separation (m): option on hinges %.2e points %.2e; off hinges %.2e "
-				"points %.2e\n",
-				onHinge, onPoint, offHinge, offPoint);
+	std::printf(
+		"[ figures  ] mixed chain, largest separation (m): option on hinges %.2e points %.2e; off hinges %.2e "
+		"points %.2e\n",
+		onHinge, onPoint, offHinge, offPoint);
 	EXPECT_EQ(withPoints.getLastStats().joints, 6);
 	EXPECT_EQ(withPoints.getLastStats().islands, 1);
 	EXPECT_EQ(hingesOnly.getLastStats().joints, 3);
@@ -180,7 +181,7 @@ TEST(StabilizerPoints, PointToPointChainAloneIsProjected)
 		btRigidBody* link = scene.box(btVector3(kLink / 2, btScalar(0.05), btScalar(0.05)), 1,
 									  btVector3(kLink * (btScalar(i) + btScalar(0.5)), 10, 0));
 		btTypedConstraint* c = previous ? new btPoint2PointConstraint(*previous, *link, btVector3(kLink / 2, 0, 0),
-																	   btVector3(-kLink / 2, 0, 0))
+																	  btVector3(-kLink / 2, 0, 0))
 										: new btPoint2PointConstraint(*link, btVector3(-kLink / 2, 0, 0));
 		scene.addConstraint(c);
 		points.push_back(c);
@@ -330,7 +331,7 @@ TEST(StabilizerPoints, SixDofWithItsLinearAxesLockedIsAPointConstraint)
 	}
 	std::printf("[ figures  ] 6-dof points, largest separation (m): option on %.2e (hinges %.2e); off %.2e\n", worstOn,
 				hingeOn, worstOff);
-	EXPECT_EQ(withPoints.getLastStats().joints, 4);  // two hinges, two 6-dofs; not the weld
+	EXPECT_EQ(withPoints.getLastStats().joints, 4);            // two hinges, two 6-dofs; not the weld
 	EXPECT_EQ(withPoints.getLastStats().pointConstraints, 1);  // the ball; the 6-dof hinge is a hinge
 	EXPECT_EQ(withPoints.getLastStats().dofHinges, 1);
 	EXPECT_EQ(withPoints.getLastStats().islands, 1);

@@ -172,7 +172,7 @@ TEST(StabilizerRest, ChainsRestingAgainstTheirStopsAreReplayedToTheBit)
 	}
 	std::printf("[ figures  ] islands replayed over steps 200-299: %d of %d (chains in a cycle of two: %d)\n", resting,
 				100 * chains, cycling);
-	EXPECT_GE(resting, 100);  // at least one chain at every one of the last 100 steps
+	EXPECT_GE(resting, 100);                                    // at least one chain at every one of the last 100 steps
 	EXPECT_GT(w.stabilizer.getLastStats().activeLimitRows, 0);  // at their stops
 	// and to the bit what the projection gives
 	EXPECT_GT(lockstep(chains, links, 2, 300, nothing), 0);

@@ -35,7 +35,7 @@ TEST(StabilizerStock, RowsAndLimitVariableAreTheDerivatives)
 	// against J's columns and v's gradient (±g on ω_A, ω_B), over seeded random frames and poses near the hinge and up
 	// to 1 rad off it, for every kind. Relative error per max(1, |entry|): 1e-6 in double, 2e-3 in float (step 1e-5,
 	// or float's ε^⅓), as tests/test_stabilizer_locked.cpp.
-	const double tolerance = kDouble ? 1e-6 : 2e-3;  // dimensionless
+	const double tolerance = kDouble ? 1e-6 : 2e-3;                                          // dimensionless
 	const btScalar h = kDouble ? btScalar(1e-5) : btScalar(std::cbrt(double(FLT_EPSILON)));  // m or rad
 	std::mt19937 rng(11);
 	std::uniform_real_distribution<double> u(-1, 1);
@@ -93,7 +93,7 @@ TEST(StabilizerStock, LimitVariableIsTheJointsOwnAngleAndActsWhereItsTestActs)
 	// the limit variable and its stops say what the joint's own limit test says: stock's testLimit (getSolveLimit,
 	// getLimitSign), a 6-dof's getInfo1 (its limit motor's current position, which it tests against its limits). Cases
 	// within kEdge of a stop are skipped (the two compute the angle in different roundings).
-	const double kEdge = 1e-4;  // rad
+	const double kEdge = 1e-4;                             // rad
 	const double kAngleTolerance = kDouble ? 1e-9 : 2e-5;  // rad: the same angle, computed two ways
 	std::mt19937 rng(5);
 	std::uniform_real_distribution<double> u(-1, 1);

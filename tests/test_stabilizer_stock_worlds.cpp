@@ -327,7 +327,7 @@ TEST(StabilizerStock, ManualSnippet)
 	world->stepSimulation(btScalar(1) / 60);
 	EXPECT_EQ(stabilizer.getLastStats().dofHinges, 0);
 	EXPECT_EQ(stabilizer.getLastStats().stockHinges, 1);
-	world->removeAction(&stabilizer);          // before the stabilizer goes
+	world->removeAction(&stabilizer);  // before the stabilizer goes
 }
 
 #ifdef QUATHINGE_HAVE_WORLD_IMPORTER
@@ -383,9 +383,10 @@ TEST(StabilizerStock, SpiderBulletIsHeldAsLoaded)
 	EXPECT_LE(worst[1][0], kDouble ? kSeparationTolerance : kHeldSeparation);
 	EXPECT_LE(worst[1][1], kHeldMisalignment);
 	EXPECT_LE(worst[1][2], kHeldOvershoot);
-	std::printf("spider.bullet, 5 s: without the stabilizer %.3g m, %.3g rad, %.3g rad past a stop; with it %.3g m, "
-				"%.3g rad, %.3g rad\n",
-				worst[0][0], worst[0][1], worst[0][2], worst[1][0], worst[1][1], worst[1][2]);
+	std::printf(
+		"spider.bullet, 5 s: without the stabilizer %.3g m, %.3g rad, %.3g rad past a stop; with it %.3g m, "
+		"%.3g rad, %.3g rad\n",
+		worst[0][0], worst[0][1], worst[0][2], worst[1][0], worst[1][1], worst[1][2]);
 }
 #endif  // QUATHINGE_HAVE_WORLD_IMPORTER
 

@@ -256,9 +256,10 @@ TEST(Threads, ChainInMultiThreadedWorldMatchesSingleThreadedWorld)
 	}
 	btSequentialImpulseConstraintSolverMt::s_minimumContactManifoldsForBatching = savedMinManifolds;
 	btSequentialImpulseConstraintSolverMt::s_minBatchSize = savedMinBatch;
-	std::printf("[ figures  ] Mt world: max separation %.3g m (plain world %.3g m) over %d steps; largest deviation "
-				"from the plain world in the first %d steps %.3g m\n",
-				separationMt, separationPlain, kSteps, kMatchSteps, deviation);
+	std::printf(
+		"[ figures  ] Mt world: max separation %.3g m (plain world %.3g m) over %d steps; largest deviation "
+		"from the plain world in the first %d steps %.3g m\n",
+		separationMt, separationPlain, kSteps, kMatchSteps, deviation);
 	EXPECT_TRUE(std::isfinite(separationMt) && std::isfinite(deviation));
 	EXPECT_LT(separationMt, kMaxSeparation);
 	EXPECT_LT(deviation, kMaxDeviation);

@@ -142,7 +142,7 @@ TEST(Urdf, HumanoidLoadsEveryCollisionShape)
 			{
 				const int type = compound->getChildShape(c)->getShapeType();
 				EXPECT_EQ(type, scene.bodies[i].parts[size_t(c)].shape == Shape::Capsule ? CAPSULE_SHAPE_PROXYTYPE
-																						: SPHERE_SHAPE_PROXYTYPE);
+																						 : SPHERE_SHAPE_PROXYTYPE);
 			}
 			built += size_t(compound->getNumChildShapes());
 		}
@@ -184,7 +184,7 @@ TEST(Urdf, LowerAboveUpperIsContinuous)
 	const Case cases[] = {
 		{"<limit effort=\"0\" lower=\"1\" upper=\"0\" velocity=\"1\"/>", false, 0, 0},  // lower > upper: free
 		{"<limit effort=\"1\" lower=\"-0.5\" upper=\"0.5\" velocity=\"1\"/>", true, -0.5, 0.5},
-		{"<limit effort=\"1\" velocity=\"1\"/>", false, 0, 0},   // pybullet's defaults 0 and −1 (urdfdom: locked at 0)
+		{"<limit effort=\"1\" velocity=\"1\"/>", false, 0, 0},  // pybullet's defaults 0 and −1 (urdfdom: locked at 0)
 		{"<limit lower=\"-1\" upper=\"2\"/>", true, -1, 2},     // no effort or velocity: pybullet reads it
 		{"<limit lower=\"0.25\" upper=\"0.25\"/>", true, 0.25, 0.25},
 	};
@@ -226,15 +226,16 @@ TEST(Urdf, APrismaticJointIsASliderThatEveryKindBuilds)
 	// finger does (panda.urdf, r2d2.urdf); pybullet loads such a file, and so must the scene library. The
 	// maximal-coordinate kinds build the slider alike (a 6-dof constraint); the multibody kind, a prismatic link
 	const auto gripper = [](const std::string& limit) {
-		return std::string("<?xml version=\"1.0\"?>\n<robot name=\"gripper\">\n  <link name=\"base\"/>\n"
-						   "  <link name=\"arm\"><inertial><origin xyz=\"0 0 -0.25\"/><mass value=\"1\"/>"
-						   "<inertia ixx=\"0.02\" ixy=\"0\" ixz=\"0\" iyy=\"0.02\" iyz=\"0\" izz=\"0.001\"/></inertial></link>\n"
-						   "  <link name=\"finger\"><inertial><mass value=\"0.1\"/>"
-						   "<inertia ixx=\"1e-4\" ixy=\"0\" ixz=\"0\" iyy=\"1e-4\" iyz=\"0\" izz=\"1e-4\"/></inertial></link>\n"
-						   "  <joint name=\"shoulder\" type=\"continuous\"><parent link=\"base\"/><child link=\"arm\"/>"
-						   "<axis xyz=\"1 0 0\"/></joint>\n"
-						   "  <joint name=\"slide\" type=\"prismatic\"><parent link=\"arm\"/><child link=\"finger\"/>"
-						   "<origin xyz=\"0 0 -0.5\"/><axis xyz=\"0 0 1\"/>") +
+		return std::string(
+				   "<?xml version=\"1.0\"?>\n<robot name=\"gripper\">\n  <link name=\"base\"/>\n"
+				   "  <link name=\"arm\"><inertial><origin xyz=\"0 0 -0.25\"/><mass value=\"1\"/>"
+				   "<inertia ixx=\"0.02\" ixy=\"0\" ixz=\"0\" iyy=\"0.02\" iyz=\"0\" izz=\"0.001\"/></inertial></link>\n"
+				   "  <link name=\"finger\"><inertial><mass value=\"0.1\"/>"
+				   "<inertia ixx=\"1e-4\" ixy=\"0\" ixz=\"0\" iyy=\"1e-4\" iyz=\"0\" izz=\"1e-4\"/></inertial></link>\n"
+				   "  <joint name=\"shoulder\" type=\"continuous\"><parent link=\"base\"/><child link=\"arm\"/>"
+				   "<axis xyz=\"1 0 0\"/></joint>\n"
+				   "  <joint name=\"slide\" type=\"prismatic\"><parent link=\"arm\"/><child link=\"finger\"/>"
+				   "<origin xyz=\"0 0 -0.5\"/><axis xyz=\"0 0 1\"/>") +
 			   limit + "</joint>\n</robot>\n";
 	};
 	TempDir dir;
@@ -298,8 +299,7 @@ TEST(Urdf, RefusesWhatItCannotRepresent)
 		std::vector<std::string> mentions;
 	};
 	const Case cases[] = {
-		{"planar.urdf", robot("planar", "<limit lower=\"0\" upper=\"1\" effort=\"1\" velocity=\"1\"/>"),
-		 {"shoulder", "planar"}},
+		{"planar.urdf", robot("planar", "<limit lower=\"0\" upper=\"1\" effort=\"1\" velocity=\"1\"/>"), {"shoulder", "planar"}},
 		{"spherical.urdf", robot("spherical", ""), {"shoulder", "spherical"}},
 		{"floating.urdf", robot("floating", ""), {"shoulder", "floating"}},
 		{"zero_axis.urdf", robot("continuous", "<axis xyz=\"0 0 0\"/>"), {"shoulder", "axis"}},

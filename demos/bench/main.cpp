@@ -271,8 +271,8 @@ SceneSpec ragdollCrowd(int count)
 struct StepScene
 {
 	SceneSpec scene;
-	int warmup;  // steps before timing
-	int timed;   // steps timed (a fixed count, so every kind times the same stretch of simulated time)
+	int warmup;             // steps before timing
+	int timed;              // steps timed (a fixed count, so every kind times the same stretch of simulated time)
 	bool everyKind = true;  // false: stock, quaternion and quaternion+stab only (the robots and the scenes at rest)
 	// > 0: the stabilizer projects only the joints of the scene's first `heroBodies` bodies (setFilter): one ragdoll
 	// of a crowd, what an app stabilizes when only its hero needs it
@@ -303,7 +303,8 @@ void benchStep(benchmark::State& state, const StepScene* spec, Kind kind)
 	catch (const std::exception& e)  // a kind that cannot express the scene (multibody: loops) says why
 	{
 		state.SkipWithError(e.what());
-		for (auto _ : state) {}
+		for (auto _ : state)
+		{}
 		return;
 	}
 	Simulation& sim = *built;

@@ -92,8 +92,9 @@ void writeJson(const std::string& path, const std::vector<Metrics>& results)
 
 int main(int argc, char** argv)
 {
-	CLI::App app{"quathinge-compare: stock btHingeConstraint against btQuaternionHingeConstraint (and more) on the "
-				 "scene library; error against run time"};
+	CLI::App app{
+		"quathinge-compare: stock btHingeConstraint against btQuaternionHingeConstraint (and more) on the "
+		"scene library; error against run time"};
 	std::vector<std::string> scenes;
 	const std::vector<std::string> built = sceneNames();  // the defaults this build has (spider: the world importer)
 	for (const char* name : {"pendulum", "chain10", "heavy100", "flipped179", "limit_across_pi", "four_bar", "spider"})
@@ -121,19 +122,24 @@ int main(int argc, char** argv)
 	app.add_option("--sweep-dt", sweepSteps, "sweep these time steps (s) — with --sweep-iterations traces error against run time");
 	app.add_option("--sweep-iterations", sweepIterations, "sweep these iteration counts");
 	app.add_option("-j,--jobs", jobs, "parallel runs")->capture_default_str()->check(CLI::PositiveNumber);
-	app.add_option("-o,--out", out, "output folder for results.csv and results.json, relative to the current directory "
-								  "(created if missing)")->capture_default_str();
+	app.add_option("-o,--out", out,
+				   "output folder for results.csv and results.json, relative to the current directory "
+				   "(created if missing)")
+		->capture_default_str();
 	app.add_option("--models", models, "directory of the models (default: $QUATHINGE_MODELS_DIR, else the installed share/quathinge/models, else the source tree's demos/models)");
 	app.add_flag("--no-reference", noReference, "skip the fine-step reference runs (faster; no trajectory error)");
 	app.add_flag("--series", series, "record time series (separation, misalignment, energy) in the JSON");
 	app.add_flag("--list", list, "list the scenes and exit");
-	app.add_option("--soak", soak, "soak: run each scene x kind for this many steps (no reference), checking for NaN, "
-								   "energy and resident memory")->check(CLI::PositiveNumber);
+	app.add_option("--soak", soak,
+				   "soak: run each scene x kind for this many steps (no reference), checking for NaN, "
+				   "energy and resident memory")
+		->check(CLI::PositiveNumber);
 	app.add_option("--reference-exe", referenceExe,
 				   "take the fine-step references from this quathinge-compare (the double-precision build's); default: "
 				   "run them here, in this build's precision");
-	app.add_flag("--dump-reference", "print the fine-step reference trajectory of the first scene and kind (every body's "
-									 "position after each of --dump-steps steps of --dt) and exit");
+	app.add_flag("--dump-reference",
+				 "print the fine-step reference trajectory of the first scene and kind (every body's "
+				 "position after each of --dump-steps steps of --dt) and exit");
 	app.add_option("--dump-steps", dumpSteps, "coarse steps for --dump-reference");
 	app.add_option("--reference-dir", referenceDir,
 				   "measure reference_error_m against the common references DIR/<scene>.ref (--write-reference)");
@@ -141,8 +147,7 @@ int main(int argc, char** argv)
 				   "write each scene's common reference to DIR/<scene>.ref (run it in the double build: docs/PEERS.md), "
 				   "print its step, halving change, divergence time and horizon, and exit (-d: its length, default the "
 				   "scene's duration)");
-	app.add_option("--reference-dt", referenceDt, "the common reference's step (s)")->capture_default_str()
-		->check(CLI::PositiveNumber);
+	app.add_option("--reference-dt", referenceDt, "the common reference's step (s)")->capture_default_str()->check(CLI::PositiveNumber);
 	app.footer("Joint kinds (-k):" + kindsHelp() + "\n" +
 			   "\nExample: compare stock and the stabilized hinge on two chains at 200 Hz and 20 iterations:\n"
 			   "  quathinge-compare -s heavy1000 chain30 -k stock quaternion+stab --dt 0.005 -i 20 -o my-run\n"
@@ -320,13 +325,15 @@ int main(int argc, char** argv)
 						  << " s\n";
 				return 1;
 			}
-	std::cout << fmt::format("\nwrote {0}/results.csv and {0}/results.json ({1} runs). energy: max |E-E0| / energy "
-							 "scale; traj err: m against the fine-step reference, or relative period error; wall/cpu ms/s: "
-							 "milliseconds of wall / this thread's CPU time per simulated second; rows: solver rows per step.\n",
-							 out, results.size());
-	std::cout << fmt::format("blow-up s: time of the first step with a non-finite state, a body beyond {:g} m or faster "
-							 "than {:g} m/s, or a runaway: energy above its start by more than {:g}x the energy scale "
-							 "(sum of m g max(extent, 1 m) plus the initial kinetic energy; max_energy_gain in the JSON).\n",
-							 kRunawayDistance, kRunawaySpeed, kRunawayEnergyGain);
+	std::cout << fmt::format(
+		"\nwrote {0}/results.csv and {0}/results.json ({1} runs). energy: max |E-E0| / energy "
+		"scale; traj err: m against the fine-step reference, or relative period error; wall/cpu ms/s: "
+		"milliseconds of wall / this thread's CPU time per simulated second; rows: solver rows per step.\n",
+		out, results.size());
+	std::cout << fmt::format(
+		"blow-up s: time of the first step with a non-finite state, a body beyond {:g} m or faster "
+		"than {:g} m/s, or a runaway: energy above its start by more than {:g}x the energy scale "
+		"(sum of m g max(extent, 1 m) plus the initial kinetic energy; max_energy_gain in the JSON).\n",
+		kRunawayDistance, kRunawaySpeed, kRunawayEnergyGain);
 	return 0;
 }

@@ -94,7 +94,7 @@ public:
 			d->enableMotor(5, true);
 			d->setServo(5, true);
 			d->setServoTarget(5, btNormalizeAngle(-(j.target - offset)));  // its angle is −(θ − offset), wrapped
-			d->setTargetVelocity(5, j.maxSpeed);  // a speed: the servo picks the sign
+			d->setTargetVelocity(5, j.maxSpeed);                           // a speed: the servo picks the sign
 			d->setMaxMotorForce(5, j.maxEffort);
 		}
 		return d;
@@ -180,8 +180,8 @@ public:
 		return new btQuaternionHingeConstraint(h);
 	}
 	std::vector<btTypedConstraint*> replaceStockHinges(btDynamicsWorld& world,
-													  const btAlignedObjectArray<btHingeConstraint*>& stock,
-													  std::vector<StepHook>&) const override
+													   const btAlignedObjectArray<btHingeConstraint*>& stock,
+													   std::vector<StepHook>&) const override
 	{
 		// what a Bullet user does with a loaded file: one call swaps every stock hinge for its quaternion hinge
 		// (btQuaternionHingeConstraint(const btHingeConstraint&) each); the removed stock hinges stay the loader's

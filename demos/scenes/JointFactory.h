@@ -37,8 +37,8 @@ public:
 	/// Swaps the stock hinges `stock` of a loaded file in `world` for this kind's joints and returns them (the caller
 	/// owns them; the stock hinges stay their loader's). Default: convertStock for each, removed and added one by one.
 	virtual std::vector<btTypedConstraint*> replaceStockHinges(btDynamicsWorld& world,
-															  const btAlignedObjectArray<btHingeConstraint*>& stock,
-															  std::vector<StepHook>& hooks) const;
+															   const btAlignedObjectArray<btHingeConstraint*>& stock,
+															   std::vector<StepHook>& hooks) const;
 	/// Something this kind adds to the world besides its joints (a post-stabilizer), or null. Simulation adds it after
 	/// the joints and removes it first.
 	virtual std::unique_ptr<btActionInterface> makeAction() const { return nullptr; }

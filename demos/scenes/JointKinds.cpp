@@ -10,7 +10,7 @@ namespace scenes
 {
 std::vector<Kind> allKinds()
 {
-	return {Kind::Stock,	 Kind::Generic6Dof2,	Kind::Quaternion,			 Kind::QuaternionStabilized,
+	return {Kind::Stock, Kind::Generic6Dof2, Kind::Quaternion, Kind::QuaternionStabilized,
 			Kind::MultiBody, Kind::StockStabilized, Kind::Generic6Dof2Stabilized};
 }
 

@@ -104,7 +104,7 @@ struct SeriesPoint
 /// the initial kinetic energy. No drive, contact, spin or flipped start in the library gains more than 3× it
 /// (maxEnergyGain in the report), so 10× is a runaway: joints spinning ever faster while they stay on their manifold
 /// (undamped btMultiBody at 60 Hz on chain30 and the 1:100 load: docs/PEERS.md).
-constexpr double kRunawayEnergyGain = 10;  ///< × energy scale
+constexpr double kRunawayEnergyGain = 10;   ///< × energy scale
 constexpr double kEnergyScaleGravity = 10;  ///< m/s², the least gravity the energy scale assumes
 constexpr double kRunawaySpeed = 1e4;       ///< m/s, a body's centre of mass
 constexpr double kRunawayDistance = 1e3;    ///< m from the origin
@@ -114,37 +114,37 @@ struct Metrics
 	std::string scene, kind;
 	double dt = 0;
 	int iterations = 0;
-	std::string skipped;                 ///< why this scene × kind did not run (empty when it ran)
-	double maxSeparation = 0;            ///< m, over joints and steps
-	double rmsSeparation = 0;            ///< m
-	double maxMisalignmentDeg = 0;       ///< degrees
-	double rmsMisalignmentDeg = 0;       ///< degrees
+	std::string skipped;            ///< why this scene × kind did not run (empty when it ran)
+	double maxSeparation = 0;       ///< m, over joints and steps
+	double rmsSeparation = 0;       ///< m
+	double maxMisalignmentDeg = 0;  ///< degrees
+	double rmsMisalignmentDeg = 0;  ///< degrees
 	/// m, the prismatic joints' (SceneSpec::sliders: not compared, built alike by the maximal-coordinate kinds) largest
 	/// distance off their slide line over joints and steps; −1 when the scene has none
 	double maxSliderSeparation = -1;
-	double energyDrift = -1;             ///< max |E − E₀| / energy scale; −1 when the scene is not conservative
-	double trajectoryError = -1;         ///< m (fine-step reference) or relative (period); −1 when none
-	std::string reference;               ///< which reference trajectoryError uses
-	double recoveryTime = -1;            ///< s after which every joint's misalignment stays below 1°; −1 if never
-	double limitViolation = -1;          ///< rad, worst excursion past a limit (θ from the frames); −1: no limits
+	double energyDrift = -1;      ///< max |E − E₀| / energy scale; −1 when the scene is not conservative
+	double trajectoryError = -1;  ///< m (fine-step reference) or relative (period); −1 when none
+	std::string reference;        ///< which reference trajectoryError uses
+	double recoveryTime = -1;     ///< s after which every joint's misalignment stays below 1°; −1 if never
+	double limitViolation = -1;   ///< rad, worst excursion past a limit (θ from the frames); −1: no limits
 	/// rad: Gazebo's out-of-plane angle, the largest |pitch| or |yaw| (ZYX Euler angles of a body's world
 	/// orientation) over bodies and steps, for scenes that ask for it (SceneSpec::outOfPlaneBound); −1 otherwise
 	double maxOutOfPlaneRad = -1;
-	double finalTheta = 0;               ///< rad, the first joint's continuous θ at the end (from the frames)
+	double finalTheta = 0;  ///< rad, the first joint's continuous θ at the end (from the frames)
 	/// max (E − E₀) / energy scale over the run, every scene (drives and contacts included): what the runaway test reads
 	double maxEnergyGain = 0;
-	bool blewUp = false;                 ///< non-finite or far-flung state, or a runaway (kRunawayEnergyGain)
-	double blowUpTime = -1;              ///< s
-	double wallPerSimSecond = 0;         ///< s of wall time per simulated second (the scene alone, no reference)
-	double cpuPerSimSecond = 0;          ///< s of this thread's CPU time per simulated second (immune to other load)
-	double rowsPerStep = 0;              ///< solver rows of the compared joints, mean per step
+	bool blewUp = false;          ///< non-finite or far-flung state, or a runaway (kRunawayEnergyGain)
+	double blowUpTime = -1;       ///< s
+	double wallPerSimSecond = 0;  ///< s of wall time per simulated second (the scene alone, no reference)
+	double cpuPerSimSecond = 0;   ///< s of this thread's CPU time per simulated second (immune to other load)
+	double rowsPerStep = 0;       ///< solver rows of the compared joints, mean per step
 	int steps = 0;
-	long rssFirstKb = -1;                ///< resident memory at the first sample (kB), soak runs
-	long rssLastKb = -1;                 ///< resident memory at the last sample (kB)
-	int mlcpFallbacks = -1;              ///< btMLCPSolver::getNumFallbacks() at the end (MLCP kinds), else −1
+	long rssFirstKb = -1;    ///< resident memory at the first sample (kB), soak runs
+	long rssLastKb = -1;     ///< resident memory at the last sample (kB)
+	int mlcpFallbacks = -1;  ///< btMLCPSolver::getNumFallbacks() at the end (MLCP kinds), else −1
 	/// m, RunSettings::referenceFile's horizon: the largest RMS over bodies of |position − reference| at its samples
 	double referenceError = -1;
-	double referenceHorizon = -1;        ///< s
+	double referenceHorizon = -1;  ///< s
 	std::vector<SeriesPoint> series;
 };
 

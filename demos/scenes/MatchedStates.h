@@ -20,9 +20,9 @@ struct MatchedRun
 {
 	JointErrorStats leader;    ///< the leading kind's free run
 	JointErrorStats follower;  ///< the following kind, each step taken from the leader's state before that step
-	int steps = 0;           ///< steps run (fewer than asked after a blow-up)
-	bool blewUp = false;     ///< a body of either world became non-finite or far-flung (Simulation::finiteAndBounded)
-	std::string skipped;     ///< why the scene could not run (then nothing else is set)
+	int steps = 0;             ///< steps run (fewer than asked after a blow-up)
+	bool blewUp = false;       ///< a body of either world became non-finite or far-flung (Simulation::finiteAndBounded)
+	std::string skipped;       ///< why the scene could not run (then nothing else is set)
 };
 
 /// Runs the scene with `leader` for its duration (or `duration` s when > 0) at steps of dt and `iterations` solver

@@ -39,13 +39,13 @@ constexpr Kind kLoopReferenceKind = Kind::Stock;
 struct ReferenceTrajectory
 {
 	std::string scene, kind, precision;
-	double step = 0;             ///< s
+	double step = 0;  ///< s
 	int iterations = 0;
-	double sampleDt = 0;         ///< s between samples; sample k (from 1) is at k·sampleDt
-	double horizon = 0;          ///< s over which the trajectory error is judged
-	double halvingChange = -1;   ///< m: the largest distance over the horizon between this run and one at step/2
-	double divergenceTime = -1;  ///< s when the kicked run is kDivergenceThreshold away; −1: not within the run
-	double halvingTime = -1;     ///< s when the half-step run is kHalvingTolerance away; −1: not within the run
+	double sampleDt = 0;                       ///< s between samples; sample k (from 1) is at k·sampleDt
+	double horizon = 0;                        ///< s over which the trajectory error is judged
+	double halvingChange = -1;                 ///< m: the largest distance over the horizon between this run and one at step/2
+	double divergenceTime = -1;                ///< s when the kicked run is kDivergenceThreshold away; −1: not within the run
+	double halvingTime = -1;                   ///< s when the half-step run is kHalvingTolerance away; −1: not within the run
 	std::vector<std::vector<double>> samples;  ///< per sample: x y z of every body, in scene order
 };
 

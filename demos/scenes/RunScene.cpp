@@ -110,61 +110,61 @@ Metrics runScene(const SceneSpec& scene, Kind kind, const RunSettings& settings)
 	bool useExternal = reference && !settings.referenceExe.empty();
 	std::string externalFailure, externalPrecision = "unknown";
 	if (useExternal) try
-	{
-		reference.reset();
-		std::ostringstream cmd;
-		cmd << '"' << settings.referenceExe << "\" --dump-reference -s \"" << settings.sceneArgument << "\" -k \""
-			<< kindName(kind) << "\" --dt " << std::setprecision(17) << settings.dt << " --dump-steps " << steps
-			<< " --seed " << settings.seed << " --models \"" << settings.modelsDir << '"';
-		FILE* pipe = popen(cmd.str().c_str(), "r");
-		if (!pipe) throw std::runtime_error("runScene: cannot run the reference: " + cmd.str());
-		char line[1 << 16];
-		while (std::fgets(line, sizeof line, pipe))
 		{
-			if (line[0] == '#')  // "# precision double": which Bullet the reference ran in
+			reference.reset();
+			std::ostringstream cmd;
+			cmd << '"' << settings.referenceExe << "\" --dump-reference -s \"" << settings.sceneArgument << "\" -k \""
+				<< kindName(kind) << "\" --dt " << std::setprecision(17) << settings.dt << " --dump-steps " << steps
+				<< " --seed " << settings.seed << " --models \"" << settings.modelsDir << '"';
+			FILE* pipe = popen(cmd.str().c_str(), "r");
+			if (!pipe) throw std::runtime_error("runScene: cannot run the reference: " + cmd.str());
+			char line[1 << 16];
+			while (std::fgets(line, sizeof line, pipe))
 			{
-				std::istringstream header(line + 1);
-				std::string word;
-				header >> word >> externalPrecision;
-				continue;
+				if (line[0] == '#')  // "# precision double": which Bullet the reference ran in
+				{
+					std::istringstream header(line + 1);
+					std::string word;
+					header >> word >> externalPrecision;
+					continue;
+				}
+				std::istringstream in(line);
+				std::vector<double> values;
+				double v;
+				while (in >> v) values.push_back(v);
+				external.push_back(values);
 			}
-			std::istringstream in(line);
-			std::vector<double> values;
-			double v;
-			while (in >> v) values.push_back(v);
-			external.push_back(values);
+			const int status = pclose(pipe);
+			if (status != 0 || int(external.size()) != steps)
+				throw std::runtime_error("the reference (" + cmd.str() + ") gave " + std::to_string(external.size()) +
+										 " of " + std::to_string(steps) + " steps, status " + std::to_string(status));
 		}
-		const int status = pclose(pipe);
-		if (status != 0 || int(external.size()) != steps)
-			throw std::runtime_error("the reference (" + cmd.str() + ") gave " + std::to_string(external.size()) +
-									 " of " + std::to_string(steps) + " steps, status " + std::to_string(status));
-	}
-	catch (const std::exception& e)
-	{
-		useExternal = false;  // said in the results instead of a trajectory error
-		externalFailure = e.what();
-	}
+		catch (const std::exception& e)
+		{
+			useExternal = false;  // said in the results instead of a trajectory error
+			externalFailure = e.what();
+		}
 	// the common reference (Reference.h): its samples land on every perSample-th step
 	ReferenceTrajectory common;
 	long perSample = 0;
 	std::string commonFailure;
 	if (!settings.referenceFile.empty()) try
-	{
-		common = readReference(settings.referenceFile);
-		const double ratio = common.sampleDt / settings.dt;
-		perSample = std::lround(ratio);
-		if (perSample < 1 || std::fabs(ratio - double(perSample)) > 1e-6 * ratio)
-			throw std::runtime_error("its sample interval is no whole number of steps of dt");
-		if (common.samples.front().size() != 3 * sim->bodies.size())
-			throw std::runtime_error("it has another number of bodies");
-		m.referenceHorizon = common.horizon;
-		m.referenceError = 0;
-	}
-	catch (const std::exception& e)
-	{
-		perSample = 0;
-		commonFailure = e.what();
-	}
+		{
+			common = readReference(settings.referenceFile);
+			const double ratio = common.sampleDt / settings.dt;
+			perSample = std::lround(ratio);
+			if (perSample < 1 || std::fabs(ratio - double(perSample)) > 1e-6 * ratio)
+				throw std::runtime_error("its sample interval is no whole number of steps of dt");
+			if (common.samples.front().size() != 3 * sim->bodies.size())
+				throw std::runtime_error("it has another number of bodies");
+			m.referenceHorizon = common.horizon;
+			m.referenceError = 0;
+		}
+		catch (const std::exception& e)
+		{
+			perSample = 0;
+			commonFailure = e.what();
+		}
 	const double e0 = sim->energy();
 	// energy scale: the potential energy a body could exchange over the scene's size, plus the initial kinetic energy;
 	// gravity counts as at least kEnergyScaleGravity, so a weightless scene at rest (the flipped starts) still has one

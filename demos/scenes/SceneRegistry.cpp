@@ -62,10 +62,10 @@ std::vector<std::string> sceneNames()
 {
 	// the scenes this build can make: the .bullet scene needs Bullet's world importer, the URDF robots urdfdom and
 	// tinyxml2 (both optional; configure says which are left out)
-	std::vector<std::string> names = {"pendulum",  "chain10",         "chain30",   "chain100",        "heavy10",
-									  "heavy100",  "heavy1000",       "heavy10000", "double_pendulum", "rotor100",
-									  "rotor1000", "flipped90",       "flipped179", "flipped180",      "limit_hit",
-									  "limit_across_pi", "limit_wide", "motor_lift", "four_bar",        "ragdoll"};
+	std::vector<std::string> names = {"pendulum", "chain10", "chain30", "chain100", "heavy10",
+									  "heavy100", "heavy1000", "heavy10000", "double_pendulum", "rotor100",
+									  "rotor1000", "flipped90", "flipped179", "flipped180", "limit_hit",
+									  "limit_across_pi", "limit_wide", "motor_lift", "four_bar", "ragdoll"};
 #ifdef QUATHINGE_HAVE_WORLD_IMPORTER
 	names.push_back("spider");
 #endif

@@ -20,33 +20,33 @@ namespace scenes
 /// A body's collision shape (it also gives the inertia when BodySpec::localInertia is zero).
 enum class Shape
 {
-	Box,         ///< btBoxShape(halfExtents)
-	Capsule,     ///< btCapsuleShape along local y: radius halfExtents.x, total length 2·halfExtents.y (caps included)
-	Sphere,      ///< btSphereShape(halfExtents.x)
-	Cylinder,    ///< btCylinderShape along local y: radius halfExtents.x, half height halfExtents.y
-	ConvexHull   ///< btConvexHullShape of ShapePart::points (a mesh's vertices); only as a ShapePart
+	Box,        ///< btBoxShape(halfExtents)
+	Capsule,    ///< btCapsuleShape along local y: radius halfExtents.x, total length 2·halfExtents.y (caps included)
+	Sphere,     ///< btSphereShape(halfExtents.x)
+	Cylinder,   ///< btCylinderShape along local y: radius halfExtents.x, half height halfExtents.y
+	ConvexHull  ///< btConvexHullShape of ShapePart::points (a mesh's vertices); only as a ShapePart
 };
 
 /// One piece of a body's compound collision shape (a URDF <collision> element).
 struct ShapePart
 {
 	Shape shape = Shape::Box;
-	btVector3 halfExtents = btVector3(0, 0, 0);          ///< m (see Shape)
-	btTransform local = btTransform::getIdentity();      ///< the piece's pose in its body's frame
-	std::vector<btVector3> points;                       ///< Shape::ConvexHull: the vertices (m, the piece's frame)
+	btVector3 halfExtents = btVector3(0, 0, 0);      ///< m (see Shape)
+	btTransform local = btTransform::getIdentity();  ///< the piece's pose in its body's frame
+	std::vector<btVector3> points;                   ///< Shape::ConvexHull: the vertices (m, the piece's frame)
 };
 
 struct BodySpec
 {
-	btScalar mass = 1;                                       ///< kg; 0 makes a static body
+	btScalar mass = 1;  ///< kg; 0 makes a static body
 	/// Principal moments of inertia (kg·m²) in the body frame; zero: those of the box (URDF bodies give their own).
 	btVector3 localInertia = btVector3(0, 0, 0);
 	Shape shape = Shape::Box;
 	btVector3 halfExtents = btVector3(btScalar(0.05), btScalar(0.25), btScalar(0.05));  ///< m (see Shape)
-	btTransform pose = btTransform::getIdentity();          ///< world pose at t = 0
-	btVector3 linearVelocity = btVector3(0, 0, 0);         ///< m/s
-	btVector3 angularVelocity = btVector3(0, 0, 0);        ///< rad/s (world)
-	bool collides = false;                                   ///< take part in contacts (ragdoll on the ground)
+	btTransform pose = btTransform::getIdentity();                                      ///< world pose at t = 0
+	btVector3 linearVelocity = btVector3(0, 0, 0);                                      ///< m/s
+	btVector3 angularVelocity = btVector3(0, 0, 0);                                     ///< rad/s (world)
+	bool collides = false;                                                              ///< take part in contacts (ragdoll on the ground)
 	/// When not empty, the body's collision shape is the compound of these (`shape` and `halfExtents` then unused).
 	std::vector<ShapePart> parts;
 };
@@ -55,17 +55,17 @@ enum class Drive
 {
 	None,
 	Velocity,  ///< target angular velocity `target` (rad/s) with at most `maxEffort` N·m (each kind converts it to its
-	           ///< own unit: an impulse of maxEffort·h per step for btHingeConstraint's motor and the multibody motor)
+			   ///< own unit: an impulse of maxEffort·h per step for btHingeConstraint's motor and the multibody motor)
 	Servo      ///< target angle `target` (rad) at most `maxSpeed` rad/s with at most `maxEffort` N·m
 };
 
 /// A hinge. Angles are θ: the child's rotation about +axis relative to the parent, 0 at the start pose.
 struct JointSpec
 {
-	int parent = -1;          ///< body index, −1 for the world
-	int child = 0;            ///< body index
-	btVector3 pivot;          ///< world, at t = 0
-	btVector3 axis;           ///< world unit vector, at t = 0
+	int parent = -1;  ///< body index, −1 for the world
+	int child = 0;    ///< body index
+	btVector3 pivot;  ///< world, at t = 0
+	btVector3 axis;   ///< world unit vector, at t = 0
 	/// Rotation applied to the child's joint frame: the joint starts misaligned by it (flipped starts). Identity
 	/// for an assembled joint.
 	btQuaternion childFrameTwist = btQuaternion::getIdentity();
@@ -85,10 +85,10 @@ struct JointSpec
 /// it on its own (Metrics::maxSliderSeparation).
 struct SliderSpec
 {
-	int parent = -1;          ///< body index, −1 for the world
-	int child = 0;            ///< body index
-	btVector3 pivot;          ///< world, at t = 0: the joint frame's origin (slide 0)
-	btVector3 axis;           ///< world unit vector, at t = 0
+	int parent = -1;  ///< body index, −1 for the world
+	int child = 0;    ///< body index
+	btVector3 pivot;  ///< world, at t = 0: the joint frame's origin (slide 0)
+	btVector3 axis;   ///< world unit vector, at t = 0
 	bool hasLimit = false;
 	btScalar lower = 0, upper = 0;  ///< m along axis from the start
 };
@@ -109,16 +109,16 @@ struct SceneSpec
 	std::vector<JointSpec> joints;
 	std::vector<SliderSpec> sliders;  ///< prismatic joints (URDF robots); not compared (SliderSpec)
 	btVector3 gravity = btVector3(0, -10, 0);
-	double duration = 5;          ///< s simulated by default
-	bool conservative = false;    ///< energy should be conserved (no drives, limits, contacts or damping)
-	bool ground = false;          ///< a static ground plane at y = 0
+	double duration = 5;        ///< s simulated by default
+	bool conservative = false;  ///< energy should be conserved (no drives, limits, contacts or damping)
+	bool ground = false;        ///< a static ground plane at y = 0
 	/// Bodies may be deactivated (Bullet's sleeping); false keeps them awake (DISABLE_DEACTIVATION), as games keep
 	/// ragdolls and vehicles.
 	bool allowSleep = false;
 	/// Shapes fixed to the world, drawn with it and without contacts (a URDF's root link, which is the world).
 	std::vector<ShapePart> worldParts;
 	Reference reference = Reference::FineStep;
-	double exactPeriod = 0;       ///< s, for Reference::PendulumPeriod
+	double exactPeriod = 0;  ///< s, for Reference::PendulumPeriod
 	/// s: the scene's own time step where its source fixes one (Gazebo's 1 ms world); 0: none. The sweep
 	/// (demos/sweep) runs it at this step; quathinge-compare runs every scene at its --dt.
 	double dt = 0;

@@ -134,9 +134,9 @@ private:
 	std::vector<std::unique_ptr<btCollisionShape>> m_shapes;
 	std::vector<std::unique_ptr<btRigidBody>> m_ownedBodies;
 	std::vector<std::unique_ptr<btTypedConstraint>> m_ownedJoints;
-	std::vector<btTypedConstraint*> m_compared;  // the joints being compared (rows counted)
+	std::vector<btTypedConstraint*> m_compared;   // the joints being compared (rows counted)
 	std::unique_ptr<btActionInterface> m_action;  // the kind's action (a post-stabilizer), if any
-	std::vector<StepHook> m_beforeStep;          // the kind's drive settings that depend on the step
+	std::vector<StepHook> m_beforeStep;           // the kind's drive settings that depend on the step
 	// Only set when built with the Bullet world importer (QUATHINGE_HAVE_WORLD_IMPORTER, private to the scene
 	// library): the deleter is defined there, so this layout does not depend on that definition.
 	struct ImporterDeleter

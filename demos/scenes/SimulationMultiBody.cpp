@@ -151,8 +151,8 @@ void Simulation::buildMultiBodies(const SceneSpec& scene, btRigidBody* anchor)
 				// a slider's rate: the child's velocity along the axis relative to the parent's point under its pivot
 				const BodySpec* parent = j.parent < 0 ? nullptr : &scene.bodies[size_t(j.parent)];
 				const btVector3 vParent = parent ? parent->linearVelocity + parent->angularVelocity.cross(
-																			   scene.bodies[size_t(body)].pose.getOrigin() -
-																			   parent->pose.getOrigin())
+																				scene.bodies[size_t(body)].pose.getOrigin() -
+																				parent->pose.getOrigin())
 												 : btVector3(0, 0, 0);
 				mb->setJointVel(int(i), (scene.bodies[size_t(body)].linearVelocity - vParent).dot(j.axis));
 			}

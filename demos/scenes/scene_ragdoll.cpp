@@ -50,14 +50,14 @@ SceneSpec ragdollScene(unsigned seed)
 		j.upper = hi;
 		s.joints.push_back(j);
 	};
-	hinge(torso, head, btVector3(0, btScalar(0.31), 0), btScalar(-0.5), btScalar(0.5));           // neck
-	hinge(torso, upperArmL, btVector3(btScalar(-0.28), btScalar(0.31), 0), -2, 2);                // shoulders
+	hinge(torso, head, btVector3(0, btScalar(0.31), 0), btScalar(-0.5), btScalar(0.5));  // neck
+	hinge(torso, upperArmL, btVector3(btScalar(-0.28), btScalar(0.31), 0), -2, 2);       // shoulders
 	hinge(torso, upperArmR, btVector3(btScalar(0.28), btScalar(0.31), 0), -2, 2);
 	hinge(upperArmL, lowerArmL, btVector3(btScalar(-0.28), btScalar(-0.11), 0), btScalar(-2.5), 0);  // elbows
 	hinge(upperArmR, lowerArmR, btVector3(btScalar(0.28), btScalar(-0.11), 0), btScalar(-2.5), 0);
 	hinge(torso, thighL, btVector3(btScalar(-0.1), btScalar(-0.31), 0), btScalar(-1.5), btScalar(0.5));  // hips
 	hinge(torso, thighR, btVector3(btScalar(0.1), btScalar(-0.31), 0), btScalar(-1.5), btScalar(0.5));
-	hinge(thighL, shinL, btVector3(btScalar(-0.1), btScalar(-0.73), 0), 0, btScalar(2.5));        // knees
+	hinge(thighL, shinL, btVector3(btScalar(-0.1), btScalar(-0.73), 0), 0, btScalar(2.5));  // knees
 	hinge(thighR, shinR, btVector3(btScalar(0.1), btScalar(-0.73), 0), 0, btScalar(2.5));
 	s.bodies[size_t(torso)].angularVelocity = btVector3(btScalar(spin(rng)), btScalar(spin(rng)), btScalar(spin(rng)));
 	s.ground = true;

@@ -54,7 +54,7 @@ namespace
 btVector3 boxFromInertia(double mass, const btVector3& moments)
 {
 	const double kMinHalf = 0.01;  // m
-	btVector3 h(0, 0, 0);  // all four floats set (GCC -O3 warns of the unused fourth otherwise)
+	btVector3 h(0, 0, 0);          // all four floats set (GCC -O3 warns of the unused fourth otherwise)
 	for (int k = 0; k < 3; ++k)
 	{
 		const double sq = 3 / (2 * mass) * (double(moments[(k + 1) % 3]) + double(moments[(k + 2) % 3]) - double(moments[k]));
@@ -124,13 +124,13 @@ void buildScene(SceneSpec& s, const urdf::ModelInterface& model, const Preproces
 			throw Refusal("link '" + link->name + "': urdfdom did not read its <inertial>");
 		std::vector<ShapePart> parts;  // in the link's frame
 		for (size_t c = 0; c < link->collision_array.size(); ++c) try
-		{
-			for (ShapePart& part : collisionParts(*link->collision_array[c], capsules[c], path)) parts.push_back(std::move(part));
-		}
-		catch (const Refusal& e)
-		{
-			throw Refusal("link '" + link->name + "' <collision> " + std::to_string(c + 1) + ": " + e.what());
-		}
+			{
+				for (ShapePart& part : collisionParts(*link->collision_array[c], capsules[c], path)) parts.push_back(std::move(part));
+			}
+			catch (const Refusal& e)
+			{
+				throw Refusal("link '" + link->name + "' <collision> " + std::to_string(c + 1) + ": " + e.what());
+			}
 		if (link == model.getRoot())
 		{
 			s.worldParts = parts;
@@ -168,7 +168,7 @@ void buildScene(SceneSpec& s, const urdf::ModelInterface& model, const Preproces
 			{
 				throw Refusal("link '" + link->name + "': mass " + std::to_string(link->inertial->mass) +
 							  (lightestMass > 0 && smallestMoment > 0 ? " is negative or not a number"
-																	   : " and no link has mass and inertia"));
+																	  : " and no link has mass and inertia"));
 			}
 			for (int k = 0; k < 3; ++k)
 				if (!(body.localInertia[k] >= 0))

@@ -28,12 +28,12 @@ struct Analysis
 	// [3]: the exact solve's own (the Baumgarte bias it asks for)
 	double swingRate[4] = {0, 0, 0, 0};
 	double pivotSpeed[4] = {0, 0, 0, 0};
-	double intraCoupling = 0;        // largest |K_ij| / √(K_ii K_jj) between two rows of one joint
-	double angularPairCoupling = 0;  // the same between a joint's two angular rows (no linear part)
-	double pointAngularCoupling = 0; // the same between a joint's point row and angular row
-	double angularDiagonalRatio = 0; // largest K_uu / K_vv of a joint's two angular rows (≥ 1)
-	double interCoupling = 0;        // the same between rows of two joints
-	double blockCondition = 0;       // largest eigenvalue ratio of a joint's own block of K
+	double intraCoupling = 0;         // largest |K_ij| / √(K_ii K_jj) between two rows of one joint
+	double angularPairCoupling = 0;   // the same between a joint's two angular rows (no linear part)
+	double pointAngularCoupling = 0;  // the same between a joint's point row and angular row
+	double angularDiagonalRatio = 0;  // largest K_uu / K_vv of a joint's two angular rows (≥ 1)
+	double interCoupling = 0;         // the same between rows of two joints
+	double blockCondition = 0;        // largest eigenvalue ratio of a joint's own block of K
 };
 const int kSweeps[3] = {10, 50, 250};
 

@@ -52,11 +52,12 @@ void writeMatched(std::ostream& csv, const std::vector<Job>& queue, const SweepS
 				<< quaternion.rmsSeparation() << ',' << quaternion.maxMisalignmentDeg << ','
 				<< quaternion.rmsMisalignmentDeg() << '\n';
 			csv.flush();
-			std::cout << fmt::format("{:<22} {:<11} {:>4} it  on {}'s states: max sep stock {:.3e} "
-									 "quaternion {:.3e} m\n",
-									 job.sceneName, job.variant.name, job.iterations,
-									 stockLeads ? "stock" : "quaternion", stock.maxSeparation,
-									 quaternion.maxSeparation)
+			std::cout << fmt::format(
+							 "{:<22} {:<11} {:>4} it  on {}'s states: max sep stock {:.3e} "
+							 "quaternion {:.3e} m\n",
+							 job.sceneName, job.variant.name, job.iterations,
+							 stockLeads ? "stock" : "quaternion", stock.maxSeparation,
+							 quaternion.maxSeparation)
 					  << std::flush;
 		}
 	});

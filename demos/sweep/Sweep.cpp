@@ -24,8 +24,10 @@ Variant parseVariant(const std::string& name)
 	}
 	catch (const std::invalid_argument& e)
 	{
-		throw std::invalid_argument("unknown basis or kind '" + name + "' (radial world heavy decoupled jointframe radial-turned "
-									"turned-at-static radial-turned45 radial-turned90, or " + e.what() + ")");
+		throw std::invalid_argument("unknown basis or kind '" + name +
+									"' (radial world heavy decoupled jointframe radial-turned "
+									"turned-at-static radial-turned45 radial-turned90, or " +
+									e.what() + ")");
 	}
 }
 

@@ -22,8 +22,8 @@ int main(int argc, char** argv)
 {
 	CLI::App app("quathinge-sweep: row basis × order × iterations over scenes, CSV out (docs/ROW_BASIS.md)");
 	std::vector<std::string> sceneList = {"inertia_ratio"};
-	std::vector<std::string> basisList = {"stock",      "radial",        "world",           "heavy",
-										  "decoupled", "jointframe",    "radial-turned",   "turned-at-static"};
+	std::vector<std::string> basisList = {"stock", "radial", "world", "heavy",
+										  "decoupled", "jointframe", "radial-turned", "turned-at-static"};
 	std::vector<std::string> orderList = {"point-first", "angular-first"};
 	std::vector<int> iterationList = {10, 20, 50, 100, 250};
 	double dt = -1, duration = -1;

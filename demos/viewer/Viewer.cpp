@@ -44,7 +44,8 @@ std::vector<const btRigidBody*> connectedBodies(const Simulation& sim, const btR
 	for (size_t next = 0; next < found.size(); ++next)
 		for (const MeasuredJoint& j : sim.joints)
 		{
-			const btRigidBody* other = j.a == found[next] ? j.b : j.b == found[next] ? j.a : nullptr;
+			const btRigidBody* other = j.a == found[next] ? j.b : j.b == found[next] ? j.a
+																					 : nullptr;
 			if (!other) continue;
 			if (other->getInvMass() == 0)
 			{

@@ -51,14 +51,18 @@ int main(int argc, char** argv)
 	app.add_option("--strip", o.strip, "write a frame strip (frames at --strip-frames, stacked) to this PNG and exit");
 	app.add_option("--strip-frames", o.stripFrames, "steps at which the strip's frames are taken")->delimiter(',')->capture_default_str();
 	app.add_flag("--no-ui", o.noUi, "no control panel (labels stay)");
-	app.add_option("--drag-body", o.drag, "scripted mouse drag (headless test of picking): pane,body,dx,dy — from step 10 "
-										  "the body is picked where it appears on screen and dragged dx, dy pixels over "
-										  "30 steps")->delimiter(',')->expected(4);
+	app.add_option("--drag-body", o.drag,
+				   "scripted mouse drag (headless test of picking): pane,body,dx,dy — from step 10 "
+				   "the body is picked where it appears on screen and dragged dx, dy pixels over "
+				   "30 steps")
+		->delimiter(',')
+		->expected(4);
 	app.add_option("--size", o.width, "window width in pixels (the height is 9/16 of it)")->capture_default_str();
-	app.footer("Mouse: left drag pulls the body under the cursor (a btPoint2PointConstraint, as Bullet's example "
-			   "browser does); right drag orbits the camera; the wheel zooms. The panel sets scene, kinds, step, "
-			   "iterations, pause, single step, reset and the stabilizer's options.\n\nJoint kinds (--kinds):" +
-			   kindsHelp() + "\n\nExample: quathinge-viewer --scene chain30 --kinds stock,quaternion,quaternion+stab");
+	app.footer(
+		"Mouse: left drag pulls the body under the cursor (a btPoint2PointConstraint, as Bullet's example "
+		"browser does); right drag orbits the camera; the wheel zooms. The panel sets scene, kinds, step, "
+		"iterations, pause, single step, reset and the stabilizer's options.\n\nJoint kinds (--kinds):" +
+		kindsHelp() + "\n\nExample: quathinge-viewer --scene chain30 --kinds stock,quaternion,quaternion+stab");
 	CLI11_PARSE(app, argc, argv);
 	o.height = o.width * 9 / 16;
 	const bool headless = !o.screenshot.empty() || !o.strip.empty();

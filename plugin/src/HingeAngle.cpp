@@ -41,14 +41,16 @@ btScalar nearestBranch(btScalar raw, btScalar low, btScalar high)
 {
 	const bool lowFinite = std::isfinite(low), highFinite = std::isfinite(high);
 	if (!lowFinite && !highFinite) return raw;
-	const btScalar center = !lowFinite ? high - SIMD_PI : !highFinite ? low + SIMD_PI : btScalar(0.5) * (low + high);
+	const btScalar center = !lowFinite ? high - SIMD_PI : !highFinite ? low + SIMD_PI
+																	  : btScalar(0.5) * (low + high);
 	const btScalar k0 = btScalar(std::floor((center - raw) / SIMD_2_PI + btScalar(0.5)));
 	btScalar best = raw + k0 * SIMD_2_PI;
 	btScalar bestDistance = SIMD_INFINITY;
 	for (int dk = -1; dk <= 1; ++dk)
 	{
 		const btScalar candidate = raw + (k0 + btScalar(dk)) * SIMD_2_PI;
-		const btScalar distance = candidate < low ? low - candidate : candidate > high ? candidate - high : btScalar(0);
+		const btScalar distance = candidate < low ? low - candidate : candidate > high ? candidate - high
+																					   : btScalar(0);
 		// inside beats outside; among inside, the one nearest the centre (k0 itself)
 		if (distance < bestDistance || (distance == 0 && dk == 0))
 		{

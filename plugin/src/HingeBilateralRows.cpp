@@ -89,7 +89,7 @@ btScalar inverseInertiaAbout(const InverseInertiaLanes& inertia, const Lanes& w)
 }  // namespace
 
 int btQuaternionHingeConstraint::fillBilateralRows(btConstraintInfo2* info, const btTransform& transA,
-												  const btTransform& transB, const Pose& pose, const btVector3* stopAxis) const
+												   const btTransform& transB, const Pose& pose, const btVector3* stopAxis) const
 {
 	// pose: joint frame A's basis and both pivots in world; q = a* ⊗ b (Q2).
 	const int skip = info->rowskip;

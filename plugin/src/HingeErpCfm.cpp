@@ -18,10 +18,10 @@ void btQuaternionHingeConstraint::setParam(int num, btScalar value, int axis)
 		check::fail(fn, "axis", "must be -1 (the joint) or 0..5", btScalar(axis));
 		return;
 	}
-	const char* name = num == BT_CONSTRAINT_ERP		 ? "value (ERP)"
-					   : num == BT_CONSTRAINT_CFM	 ? "value (CFM)"
+	const char* name = num == BT_CONSTRAINT_ERP        ? "value (ERP)"
+					   : num == BT_CONSTRAINT_CFM      ? "value (CFM)"
 					   : num == BT_CONSTRAINT_STOP_ERP ? "value (STOP_ERP)"
-												   : "value (STOP_CFM)";
+													   : "value (STOP_CFM)";
 	if (num != BT_CONSTRAINT_ERP && num != BT_CONSTRAINT_CFM && num != BT_CONSTRAINT_STOP_ERP &&
 		num != BT_CONSTRAINT_STOP_CFM)
 	{

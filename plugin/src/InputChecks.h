@@ -34,9 +34,9 @@ bool isRigidFrame(const btTransform& frame);
 /// lo ≤ value ≤ hi (the inclusive flags say whether each end is allowed).
 bool inRange(const char* fn, const char* param, btScalar value, btScalar lo, bool loIncluded, btScalar hi,
 			 bool hiIncluded);
-bool nonNegative(const char* fn, const char* param, btScalar value);  // ≥ 0, may be +∞
+bool nonNegative(const char* fn, const char* param, btScalar value);        // ≥ 0, may be +∞
 bool finiteNonNegative(const char* fn, const char* param, btScalar value);  // finite and ≥ 0 (an impulse)
-bool positive(const char* fn, const char* param, btScalar value);     // > 0, may be +∞
+bool positive(const char* fn, const char* param, btScalar value);           // > 0, may be +∞
 
 /// How far from unit a given frame column may be: 1e-4 (relative), about 800 float ulps, so frames typed as decimals
 /// or normalized in float pass and a sheared or scaled one does not.

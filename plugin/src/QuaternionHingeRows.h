@@ -32,11 +32,11 @@ namespace quathinge
 /// The two angular rows in world coordinates. Body B's Jacobian row is +rowU / +rowV, body A's is −rowU / −rowV.
 struct AngularRows
 {
-	btVector3 rowU;      ///< ∂C_u/∂ω_B (world), Q7 scaled per Q9 (or ∂C_L,u/∂ω_B in the flipped hemisphere)
-	btVector3 rowV;      ///< ∂C_v/∂ω_B (world)
-	btScalar errorU;     ///< C_u: 2 q_v·x̂ (Q4, Q9), or φ n·x̂ when flipped
-	btScalar errorV;     ///< C_v
-	bool logForm;        ///< the swing-logarithm form was used (axes more than 90° apart)
+	btVector3 rowU;   ///< ∂C_u/∂ω_B (world), Q7 scaled per Q9 (or ∂C_L,u/∂ω_B in the flipped hemisphere)
+	btVector3 rowV;   ///< ∂C_v/∂ω_B (world)
+	btScalar errorU;  ///< C_u: 2 q_v·x̂ (Q4, Q9), or φ n·x̂ when flipped
+	btScalar errorV;  ///< C_v
+	bool logForm;     ///< the swing-logarithm form was used (axes more than 90° apart)
 };
 
 /// The Q12 switch, shared by the rows and the axial row direction (HingeAngle.h): the two hinge axes are more than

@@ -46,12 +46,12 @@ namespace quathinge
 /// rows' basis held for the step: the same constraint, converged on differently by Gauss–Seidel.
 enum class RowBasis : int
 {
-	Radial = 0,     ///< the default: p, t, a (pointRowBasis below), quaternion rows as derived
-	World = 1,      ///< point rows along world x, y, z; quaternion rows as derived (u, v)
-	Heavy = 2,      ///< p, t, a from the heavier dynamic body's arm alone (as RadialTurned when one side is static),
-	                ///< quaternion rows turned toward that p
-	Decoupled = 3,  ///< the five rows turned into the eigenvectors of the joint's own K = J M⁻¹ Jᵀ (5×5 diagonal)
-	JointFrame = 4, ///< point rows along joint frame A's x, y, z; quaternion rows as derived (u ≈ x̂, v ≈ ŷ)
+	Radial = 0,        ///< the default: p, t, a (pointRowBasis below), quaternion rows as derived
+	World = 1,         ///< point rows along world x, y, z; quaternion rows as derived (u, v)
+	Heavy = 2,         ///< p, t, a from the heavier dynamic body's arm alone (as RadialTurned when one side is static),
+					   ///< quaternion rows turned toward that p
+	Decoupled = 3,     ///< the five rows turned into the eigenvectors of the joint's own K = J M⁻¹ Jᵀ (5×5 diagonal)
+	JointFrame = 4,    ///< point rows along joint frame A's x, y, z; quaternion rows as derived (u ≈ x̂, v ≈ ŷ)
 	RadialTurned = 5,  ///< the default before issue 16: Radial with the quaternion rows turned so u' lies along p
 	/// per joint: RadialTurned where one side is static, Radial between two dynamic bodies
 	TurnedAtStatic = 6,

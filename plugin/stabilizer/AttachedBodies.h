@@ -42,7 +42,7 @@ struct AttachedBody
 	btRigidBody* body;  // the body carried with it
 	btTransform hostBefore;
 	btVector3 hostLinearVelocity, hostAngularVelocity;  // before the projection
-	const btTypedConstraint* only;  // the body's one enabled constraint, or null when it has several
+	const btTypedConstraint* only;                      // the body's one enabled constraint, or null when it has several
 };
 
 /// Appends to `out` every body attached to `host` (an island body), with the host's state now. A body in an island

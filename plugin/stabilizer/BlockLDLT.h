@@ -51,7 +51,7 @@ private:
 	const BlockPattern* m_pattern = nullptr;
 	Array<int> m_updateStart;  // updates of column k: [m_updateStart[k], m_updateStart[k + 1])
 	Array<Update> m_updates;
-	Array<Block<R>> m_w;                // V_ik P_k⁻¹ of the column being eliminated (by position in the column)
+	Array<Block<R>> m_w;               // V_ik P_k⁻¹ of the column being eliminated (by position in the column)
 	Array<BlockVector<R>> m_invPivot;  // P_k⁻¹ per block row (0 on the block's storage rows)
 };
 

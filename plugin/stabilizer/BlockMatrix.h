@@ -80,7 +80,7 @@ struct BlockPattern
 {
 	Array<int> size;      ///< a joint's own rows (the general sparse path's block sizes)
 	Array<int> offset;    ///< first scalar row of block row i in the compact (unpadded) numbering
-	int rows = 0;               ///< compact scalar rows in all
+	int rows = 0;         ///< compact scalar rows in all
 	Array<int> colStart;  ///< lower blocks of column k: [colStart[k], colStart[k + 1]), block rows ascending
 	Array<int> rowOf;     ///< block row of each lower block
 

@@ -292,7 +292,8 @@ std::unique_ptr<Island> buildOne(const Array<SignatureEntry>& entries, bool forc
 		slot.rigid[1] = e.body[1];
 		slot.body[0] = a;
 		slot.body[1] = b;
-		slot.bilateralRows = e.point ? 3 : (e.flags & SignatureEntry::kAngularOnly) ? 2 : 5;
+		slot.bilateralRows = e.point ? 3 : (e.flags & SignatureEntry::kAngularOnly) ? 2
+																					: 5;
 		slot.linearRows = (e.flags & SignatureEntry::kAngularOnly) ? 0 : 3;
 		if (e.locked)
 		{
@@ -319,9 +320,9 @@ std::unique_ptr<Island> buildOne(const Array<SignatureEntry>& entries, bool forc
 			island.generalLinear = true;
 		}
 		slot.angleReference = slot.angle = slot.lowerStop = slot.upperStop = 0;
-		const JointKindIndex kind = e.joint		 ? kQuaternionHinges
-									: e.point	 ? kPointConstraints
-									: e.locked	 ? kLockedConstraints
+		const JointKindIndex kind = e.joint        ? kQuaternionHinges
+									: e.point      ? kPointConstraints
+									: e.locked     ? kLockedConstraints
 									: e.frameHinge ? (slot.dofHinge ? kDofHinges : kStockHinges)
 												   : kJointKinds;  // a contact slot
 		if (kind != kJointKinds) ++island.jointsOfKind[kind];

@@ -124,7 +124,7 @@ void recordInvariants(Island& island)
 	for (const JointSlot& js : island.joints)
 	{
 		if (js.body[0] < 0 || js.body[1] < 0) free = false;  // a fixed partner (or a contact slot's fixed points)
-		if (js.contact >= 0) touching = true;  // a contact slot (projectContacts): its contact's work is its own
+		if (js.contact >= 0) touching = true;                // a contact slot (projectContacts): its contact's work is its own
 		if (js.joint && js.joint->getDriveMode() != BT_QHINGE_DRIVE_OFF) source = true;
 	}
 	if (hangsOnMovingBody(island)) source = true;
@@ -182,7 +182,7 @@ InvariantResult restoreInvariants(Island& island, ProjectionResult& result, doub
 	// share (measured by the position stage, ProjectionResult::curvatureLift) is not: the step's drift along the
 	// tangent left the manifold, the motion did not gain that potential energy
 	const double target = inv.kinetic - (lift - result.curvatureLift);  // T*
-	double after = kinetic;                    // the kinetic energy this leaves (J)
+	double after = kinetic;                                             // the kinetic energy this leaves (J)
 	if (inv.free)
 	{
 		// (Q17) the island's rigid motion: V = P/M, Ω = I_lock⁻¹ L about the centre of mass, I_lock its locked inertia

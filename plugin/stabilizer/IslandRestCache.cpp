@@ -67,7 +67,7 @@ void gatherInputs(const Island& island, btScalar timeStep, Array<btScalar>& out)
 		g.add(body.getLinearFactor());
 		g.add(body.getAngularFactor());
 		g.add(btScalar(b.contactScale));  // whether it touches something outside the island (IslandBodies.cpp)
-		g.add(body.getGravity());  // the energy restoration's potential (IslandInvariants.h)
+		g.add(body.getGravity());         // the energy restoration's potential (IslandInvariants.h)
 	}
 	for (const JointSlot& js : island.joints)
 	{

@@ -84,12 +84,12 @@ PositionResidual evaluatePositions(BlockIsland<R>& island, btScalar tolerance)
 		const btTransform& tB = js.rigid[1]->getCenterOfMassTransform();
 		// A joint with a limit slot also needs its angle row: both from one evaluation of the joint frames.
 		btVector3 g;
-		const int rows = js.point		 ? pointPositionRows(*js.point, tA, tB, c, jac)
-						 : js.locked	 ? lockedPositionRows(*js.locked, tA, tB, c, jac)
+		const int rows = js.point        ? pointPositionRows(*js.point, tA, tB, c, jac)
+						 : js.locked     ? lockedPositionRows(*js.locked, tA, tB, c, jac)
 						 : js.frameHinge ? (js.limitSlot ? frameHingePositionRows(js.hinge, tA, tB, c, jac,
-																				   js.angleReference, js.angle, g)
+																				  js.angleReference, js.angle, g)
 														 : frameHingePositionRows(js.hinge, tA, tB, c, jac))
-						 : js.limitSlot	 ? js.joint->computePositionRows(tA, tB, c, jac, js.angleReference, js.angle, g)
+						 : js.limitSlot  ? js.joint->computePositionRows(tA, tB, c, jac, js.angleReference, js.angle, g)
 										 : js.joint->computePositionRows(tA, tB, c, jac);
 		const int linearRows = js.linearRows;
 		btAssert(js.generalLinear() || hasPointStructure(jac, rows, linearRows));

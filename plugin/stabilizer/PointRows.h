@@ -22,12 +22,12 @@ namespace stabilizer
 /// A btGeneric6DofSpring2Constraint (btFixedConstraint is one, Bullet 2.83 on) as its limits lock it now.
 struct DofLocks
 {
-	bool isDof = false;               // the constraint is a btGeneric6DofSpring2Constraint
+	bool isDof = false;                      // the constraint is a btGeneric6DofSpring2Constraint
 	bool linear[3] = {false, false, false};  // linear axis i locked: low == high (Bullet's convention), at offset[i]
-	btVector3 offset{0, 0, 0};        // the locked values along frame A's axes (m)
-	bool allLinear = false;           // all three linear axes locked
-	bool anglesLockedAtZero = false;  // all three angles locked at 0
-	btTransform frameA, frameB;       // in A's and B's centre-of-mass frames
+	btVector3 offset{0, 0, 0};               // the locked values along frame A's axes (m)
+	bool allLinear = false;                  // all three linear axes locked
+	bool anglesLockedAtZero = false;         // all three angles locked at 0
+	btTransform frameA, frameB;              // in A's and B's centre-of-mass frames
 };
 
 // Bullet's own type numbers name Bullet's own classes (its serializer and debug drawer cast on them the same way).

@@ -43,7 +43,7 @@ private:
 	const BlockPattern* m_pattern = nullptr;
 	Array<int> m_diagStart;   // value index of entry (offset_k + c, offset_k + c), per block row k and column c
 	Array<int> m_lowerStart;  // value index of the first row of lower block s in each of its columns (stride
-	                                // kMaxBlockRows)
+							  // kMaxBlockRows)
 };
 
 extern template bool SparseLDLT::factorize<5>(const BlockMatrix<5>&);

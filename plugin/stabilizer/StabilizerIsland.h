@@ -58,13 +58,13 @@ struct SignatureEntry
 		kMovableB = 2,
 		kAngularOnly = 4,
 		kLimitSlot = 8,
-		kContact = 16,  // a contact slot (projectContacts: IslandContacts.h): body[1] null for the fixed partners
+		kContact = 16,      // a contact slot (projectContacts: IslandContacts.h): body[1] null for the fixed partners
 		kLockedAxis0 = 32,  // a locked 6-dof (projectLockedConstraints: LockedRows.h): its locked linear axes, bits 5–7
 		kDofHinge = 256     // frameHinge is a 6-dof set up as a hinge (else a stock hinge: StockHingeRows.h)
 	};
-	btQuaternionHingeConstraint* joint;  // a quaternion hinge, or null for a point constraint
-	btTypedConstraint* point;            // a point constraint (projectPointConstraints: PointRows.h), or null
-	btTypedConstraint* locked = nullptr;  // a locked 6-dof (projectLockedConstraints: LockedRows.h), or null
+	btQuaternionHingeConstraint* joint;       // a quaternion hinge, or null for a point constraint
+	btTypedConstraint* point;                 // a point constraint (projectPointConstraints: PointRows.h), or null
+	btTypedConstraint* locked = nullptr;      // a locked 6-dof (projectLockedConstraints: LockedRows.h), or null
 	btTypedConstraint* frameHinge = nullptr;  // a stock or 6-dof hinge (projectStock/DofHinges: StockHingeRows.h)
 	btRigidBody* body[2];
 	unsigned flags;
@@ -103,13 +103,13 @@ int scanWorld(btDynamicsWorld& world, const ScanKinds& kinds, const btQuaternion
 struct IslandBody
 {
 	btRigidBody* rigid;
-	Eigen::Vector3d invMass;     // inverse mass times the linear factor, per world axis
-	Eigen::Matrix3d invInertia;  // S I⁻¹_world S, S = diag(angular factor)
+	Eigen::Vector3d invMass;            // inverse mass times the linear factor, per world axis
+	Eigen::Matrix3d invInertia;         // S I⁻¹_world S, S = diag(angular factor)
 	Eigen::Matrix<double, 6, 1> delta;  // accumulated M⁻¹ Jᵀ λ: linear, then angular (world)
 	btTransform saved;                  // the transform before the last Newton step (for backtracking)
 	// This step: 1, or kContactWeight when the body touches something outside its island (IslandBodies.cpp)
 	double contactScale = 1;
-	int contactSet = -1;  // its contact slot's points in Island::contacts (projectContacts), else −1
+	int contactSet = -1;                           // its contact slot's points in Island::contacts (projectContacts), else −1
 	btVector3 startPosition = btVector3(0, 0, 0);  // its centre of mass before this step's projection (IslandInvariants.h)
 };
 
@@ -160,17 +160,17 @@ struct JointSlot
 	// Per step.
 	// The limit row's variable: a quaternion hinge's multi-turn angle (getHingeAngle's sign), a frame hinge's v
 	// (StockHingeRows.h); its stops read at the step's start with it (readAngleReferences)
-	btScalar angleReference;   // at the step's start
-	btScalar angle;            // at the last evaluation
+	btScalar angleReference;  // at the step's start
+	btScalar angle;           // at the last evaluation
 	btScalar lowerStop, upperStop;
-	bool limitActive;          // the limit row is in the system (else a padding row)
-	bool limitActiveInFactor;  // … as it was when K was last factorized
-	int limitTouched;          // +1 the lower stop, −1 the upper stop was violated this step, 0 neither
-	unsigned contactTouched;        // a contact slot: bit r set once row r penetrated this step (then in the system)
-	unsigned contactReleased;       // … and bit r once row r pulled (λ < 0) and was taken out for the rest of the step
-	unsigned contactActiveInFactor; // … as it was when K was last factorized
-	btScalar linearThreshold;  // converged |C| of the linear rows (m): max(tolerance, their rounding floor)
-	btScalar angularThreshold; // … of the angular and limit rows (rad)
+	bool limitActive;                            // the limit row is in the system (else a padding row)
+	bool limitActiveInFactor;                    // … as it was when K was last factorized
+	int limitTouched;                            // +1 the lower stop, −1 the upper stop was violated this step, 0 neither
+	unsigned contactTouched;                     // a contact slot: bit r set once row r penetrated this step (then in the system)
+	unsigned contactReleased;                    // … and bit r once row r pulled (λ < 0) and was taken out for the rest of the step
+	unsigned contactActiveInFactor;              // … as it was when K was last factorized
+	btScalar linearThreshold;                    // converged |C| of the linear rows (m): max(tolerance, their rounding floor)
+	btScalar angularThreshold;                   // … of the angular and limit rows (rad)
 	Eigen::Matrix<double, 1, 12> limitGradient;  // ∂α/∂(v_A, ω_A, v_B, ω_B) at the last evaluation
 	// M_b⁻¹ J_bᵀ for side s (A, B; unused for a fixed side), in the structure every row has (MATH.md, "Bullet's
 	// conventions", Q7): the linear part of J_b is linearSign[s]·[I₃; 0] (the point rows, C = p_B − p_A, so −I for A
@@ -183,9 +183,9 @@ struct JointSlot
 template <int R>
 struct JointBlock
 {
-	JointJacobian<R> jacobian;    // rows beyond the joint's own and an inactive limit row are zero
-	BlockVector<R> c;             // C at the last position evaluation; zero on padding rows
-	BlockVector<R> jv;            // J v at the last velocity evaluation; zero on padding rows
+	JointJacobian<R> jacobian;         // rows beyond the joint's own and an inactive limit row are zero
+	BlockVector<R> c;                  // C at the last position evaluation; zero on padding rows
+	BlockVector<R> jv;                 // J v at the last velocity evaluation; zero on padding rows
 	Eigen::Matrix<double, 3, R> h[2];  // I_b⁻¹ A_bᵀ, A_b the angular part of J_b (R×3): see JointSlot::linearSign
 };
 
@@ -213,7 +213,7 @@ struct ProjectionResult
 	btScalar residualAfter = 0;
 	btScalar velocityResidualBefore = 0;
 	btScalar velocityResidualAfter = 0;
-	double curvatureLift = 0;  // J: the joints' curvature's share of the position correction's potential energy change
+	double curvatureLift = 0;         // J: the joints' curvature's share of the position correction's potential energy change
 	bool velocitiesRestored = false;  // the energy and momentum restoration changed the velocities (IslandInvariants.h)
 };
 
@@ -254,11 +254,11 @@ struct Island
 	virtual ~Island() = default;
 	const int blockRows;  // R: 6 if some joint has a limit slot, else 5
 	Array<IslandBody> bodies;
-	Array<SignatureEntry> entries;  // the scan's entries it was built from, in scan order (kept while they stay)
-	Array<JointSlot> joints;  // in elimination order
+	Array<SignatureEntry> entries;                    // the scan's entries it was built from, in scan order (kept while they stay)
+	Array<JointSlot> joints;                          // in elimination order
 	int jointsOfKind[kJointKinds] = {0, 0, 0, 0, 0};  // by JointKindIndex
-	Array<ContactSet> contacts;  // the contact slots' points this step (projectContacts), by JointSlot::contact
-	bool generalLinear = false;  // some slot's J has a general linear part (JointSlot::generalLinear())
+	Array<ContactSet> contacts;                       // the contact slots' points this step (projectContacts), by JointSlot::contact
+	bool generalLinear = false;                       // some slot's J has a general linear part (JointSlot::generalLinear())
 	BlockPattern pattern;
 	Array<Coupling> couplings;
 	bool treeOrdered = false;  // BlockLDLT accepted the numbering (no fill)
@@ -278,14 +278,14 @@ struct Island
 	// keepEnergyAndMomentum (IslandInvariants.h): this step's record before the projection, and the guard's history.
 	struct Invariants
 	{
-		double kinetic = 0;                                          // J
-		Eigen::Vector3d momentum = Eigen::Vector3d::Zero();          // kg·m/s
-		double mass = 0;                                             // kg
-		bool free = false;     // no fixed partner, nothing outside touching, every axis free: P and L are invariants
-		bool source = false;   // a drive, an outside contact or a moving partner can feed energy in
-		bool touching = false;  // a body touches something outside the island (a contact Bullet's solver works on)
+		double kinetic = 0;                                  // J
+		Eigen::Vector3d momentum = Eigen::Vector3d::Zero();  // kg·m/s
+		double mass = 0;                                     // kg
+		bool free = false;                                   // no fixed partner, nothing outside touching, every axis free: P and L are invariants
+		bool source = false;                                 // a drive, an outside contact or a moving partner can feed energy in
+		bool touching = false;                               // a body touches something outside the island (a contact Bullet's solver works on)
 		// the guard: the energy's running average (J), its lowest value, the restoration's summed work (J) then and now
-		double scale = 0;      // J: the island's energy scale (set at its first record)
+		double scale = 0;  // J: the island's energy scale (set at its first record)
 		double average = 0, lowest = 0, workAtLowest = 0, work = 0, elapsed = 0;
 		bool guarded = false;  // the guard stopped the energy restoration (until the island is rebuilt)
 	} invariants;
@@ -308,7 +308,7 @@ struct BlockIsland : Island
 /// Builds the islands of a scan, keeping each island of `islands` whose entries are unchanged; returns how many it
 /// built. forceSparse: every island uses SparseLDLT.
 int buildIslands(const Array<SignatureEntry>& scan, bool forceSparse,
-				  Array<std::unique_ptr<Island>>& islands);
+				 Array<std::unique_ptr<Island>>& islands);
 
 /// Step settings and counters shared by the projection (a subset of btQuaternionHingeStabilizerSettings/Stats).
 struct ProjectionSettings
@@ -320,7 +320,7 @@ struct ProjectionSettings
 	bool positions;
 	bool velocities;
 	double regularization;
-	double rotationWeight;  // the position metric's inertia factor (btQuaternionHingeStabilizerSettings)
+	double rotationWeight;       // the position metric's inertia factor (btQuaternionHingeStabilizerSettings)
 	bool curvatureLift = false;  // measure ProjectionResult::curvatureLift (keepEnergyAndMomentum)
 };
 

@@ -43,16 +43,17 @@ enum class FrameHingeKind
 };
 
 /// A stock or 6-dof hinge as read at a step's start (readFrameHinge).
-ATTRIBUTE_ALIGNED16(struct) FrameHinge
+ATTRIBUTE_ALIGNED16(struct)
+FrameHinge
 {
 	btTransform frameA = btTransform::getIdentity();  // in A's centre-of-mass frame, ẑ the hinge axis
 	btTransform frameB = btTransform::getIdentity();  // in B's
 	bool angularOnly = false;
-	btScalar sign = 1;     // the joint's own angle is sign·θ (Q11)
-	bool limit = false;    // a limit that can act (above)
+	btScalar sign = 1;            // the joint's own angle is sign·θ (Q11)
+	bool limit = false;           // a limit that can act (above)
 	bool adjustToLimits = false;  // the step's first v: btAdjustAngleToLimits (6-dof), else wrapped about the centre
-	btScalar center = 0;   // c: v = sign·θ − c (0 for a 6-dof)
-	btScalar low = 0, high = 0;  // the stops on v
+	btScalar center = 0;          // c: v = sign·θ − c (0 for a 6-dof)
+	btScalar low = 0, high = 0;   // the stops on v
 };
 
 /// The kind of `c` (None: neither, or not set up as a hinge; kinds not asked for are None), and, when not None, its

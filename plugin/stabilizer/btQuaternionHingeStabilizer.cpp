@@ -33,7 +33,7 @@ struct btQuaternionHingeStabilizer::Impl
 	UpcastCache upcasts;              // which of the world's constraints are quaternion hinges
 	// every island body by its collision object, with its island (built with the islands)
 	IslandBodyMap bodyOf;
-	Array<AttachedBody> attached;     // this step's attached bodies (moveAttachedBodies, closeAttachedConstraints)
+	Array<AttachedBody> attached;                                  // this step's attached bodies (moveAttachedBodies, closeAttachedConstraints)
 	Array<std::pair<const btRigidBody*, long long>> contactIndex;  // scanContacts' scratch (projectContacts)
 	Array<std::unique_ptr<Island>> islands;
 	bool built = false;
@@ -120,7 +120,7 @@ void btQuaternionHingeStabilizer::updateAction(btCollisionWorld* collisionWorld,
 void btQuaternionHingeStabilizer::debugDraw(btIDebugDraw* /*debugDrawer*/) {}
 
 const btQuaternionHingeStabilizerStats& btQuaternionHingeStabilizer::stabilize(btDynamicsWorld* world,
-																				btScalar timeStep)
+																			   btScalar timeStep)
 {
 	const auto start = std::chrono::steady_clock::now();
 	if (!world && !fail("stabilize", "world", "must not be null", 0)) return m_stats;

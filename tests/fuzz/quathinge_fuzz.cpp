@@ -383,8 +383,9 @@ void applySetter(Input& in, btQuaternionHingeConstraint& j)
 				j.setMultiTurnAngle(j.getHingeAngle() + turns + in.value(-0.002f, 0.002f));
 				break;
 			}
-			case 12: j.setMotorTarget(btQuaternion(in.value(-1, 1), in.value(-1, 1), in.value(-1, 1), in.value(-1, 1)),
-									  in.value(-0.1f, 0.1f));
+			case 12:
+				j.setMotorTarget(btQuaternion(in.value(-1, 1), in.value(-1, 1), in.value(-1, 1), in.value(-1, 1)),
+								 in.value(-0.1f, 0.1f));
 				break;
 			case 13:
 				if (in.flag()) j.disableDrive();

@@ -36,10 +36,11 @@ void expectSameRun(const char* name, const CallerRun& stock, const CallerRun& qu
 	if (std::getenv("QUATHINGE_CALLER_TRACE"))  // both angle traces, step by step, for a closer look
 		for (size_t i = 0; i < std::min(stock.angles.size(), quat.angles.size()); ++i)
 			std::printf("%s %zu %.6f %.6f\n", name, i, stock.angles[i], quat.angles[i]);
-	std::printf("[ figures  ] %s: %zu steps, hinge angle apart by at most %.3g rad; final stock %.4f, quaternion %.4f "
-				"rad; pivots apart at most stock %.2g m, quaternion %.2g m\n",
-				name, stock.angles.size(), diff, stock.angles.empty() ? 0.0 : stock.angles.back(),
-				quat.angles.empty() ? 0.0 : quat.angles.back(), stock.maxSeparation, quat.maxSeparation);
+	std::printf(
+		"[ figures  ] %s: %zu steps, hinge angle apart by at most %.3g rad; final stock %.4f, quaternion %.4f "
+		"rad; pivots apart at most stock %.2g m, quaternion %.2g m\n",
+		name, stock.angles.size(), diff, stock.angles.empty() ? 0.0 : stock.angles.back(),
+		quat.angles.empty() ? 0.0 : quat.angles.back(), stock.maxSeparation, quat.maxSeparation);
 	EXPECT_LE(diff, angleTol) << name;
 }
 }  // namespace qh_test

@@ -21,7 +21,7 @@ struct SliderRunErrors
 };
 
 inline SliderRunErrors runWithSliders(const quathinge::scenes::SceneSpec& scene, quathinge::scenes::Kind kind,
-									   const btQuaternionHingeStabilizerSettings& settings, int steps = 180)
+									  const btQuaternionHingeStabilizerSettings& settings, int steps = 180)
 {
 	using namespace quathinge::scenes;
 	Simulation sim(scene, kind);

@@ -18,7 +18,7 @@ namespace qh_test
 const double kPi = 3.14159265358979323846;
 // The brief's targets for every hinge (float, 60 Hz, 10 iterations, defaults): pivots within 1e-5 m, axes within
 // 1e-3 rad, stops within 1e-3 rad; double Bullet reaches kSeparationTolerance (StabilizerScene.h) as well.
-const double kHeldSeparation = 1e-5;   // m
+const double kHeldSeparation = 1e-5;    // m
 const double kHeldMisalignment = 1e-3;  // rad
 const double kHeldOvershoot = 1e-3;     // rad past a stop
 // The solver alone (no stabilizer) parts these chains by more than a millimetre: what the stabilizer is for.
@@ -43,7 +43,7 @@ inline btMatrix3x3 basisWithAxis(int axis, const btVector3& w)
 
 // A 6-dof hinge, free axis `axis`, limited to [lo, hi] (lo > hi: free): Bullet's URDF importer's revolute joint.
 inline btGeneric6DofSpring2Constraint* dofHinge(btRigidBody& a, btRigidBody& b, const btTransform& fa, const btTransform& fb,
-										 int axis, RotateOrder order, btScalar lo, btScalar hi)
+												int axis, RotateOrder order, btScalar lo, btScalar hi)
 {
 	auto* d = new btGeneric6DofSpring2Constraint(a, b, fa, fb, order);
 	d->setLinearLowerLimit(btVector3(0, 0, 0));
@@ -57,7 +57,7 @@ inline btGeneric6DofSpring2Constraint* dofHinge(btRigidBody& a, btRigidBody& b, 
 }
 
 inline btGeneric6DofConstraint* oldDofHinge(btRigidBody& a, btRigidBody& b, const btTransform& fa, const btTransform& fb,
-									 int axis, btScalar lo, btScalar hi)
+											int axis, btScalar lo, btScalar hi)
 {
 	auto* d = new btGeneric6DofConstraint(a, b, fa, fb, true);
 	d->setLinearLowerLimit(btVector3(0, 0, 0));
@@ -73,7 +73,7 @@ inline btGeneric6DofConstraint* oldDofHinge(btRigidBody& a, btRigidBody& b, cons
 // Body transforms putting joint frame B turned by theta about joint frame A's column `axis`, B's pivot `offset` off
 // A's (world), A anywhere.
 inline void placeFrames(std::mt19937& rng, const btTransform& fa, const btTransform& fb, int axis, double theta,
-				 const btVector3& offset, const btQuaternion& swing, btTransform& tA, btTransform& tB)
+						const btVector3& offset, const btQuaternion& swing, btTransform& tA, btTransform& tB)
 {
 	tA = btTransform(randomUnit(rng), btVector3(1, 2, 3));
 	const btTransform frameA = tA * fa;
@@ -96,8 +96,7 @@ struct Kind
 inline std::vector<Kind> kinds()
 {
 	std::vector<Kind> k;
-	k.push_back({"stock", [](btRigidBody& a, btRigidBody& b, const btTransform& fa, const btTransform& fb, btScalar lo,
-							 btScalar hi) {
+	k.push_back({"stock", [](btRigidBody& a, btRigidBody& b, const btTransform& fa, const btTransform& fb, btScalar lo, btScalar hi) {
 					 auto* h = new btHingeConstraint(a, b, fa, fb, false);
 					 h->setLimit(lo, hi);
 					 return static_cast<btTypedConstraint*>(h);

@@ -91,7 +91,7 @@ struct btQuaternionHingeSettings
 	/// as stock's: setLimit leaves hasLimit false for it). Without it the values are kept as
 	/// given (stock's never-limited hinge reports 1 and −1, and so do these defaults).
 	bool hasLimit = false;
-	btScalar lowerLimit = 1;  ///< Lower end of the limit (rad, multi-turn angle).
+	btScalar lowerLimit = 1;   ///< Lower end of the limit (rad, multi-turn angle).
 	btScalar upperLimit = -1;  ///< Upper end of the limit (rad, multi-turn angle).
 	/// Any finite value, used within [0, 1]: the limit row is switched on speculatively once the angle is within
 	/// (1 − softness)·(upper − lower)/2 of a stop; until the stop is reached it only forbids crossing it within the
@@ -110,11 +110,11 @@ struct btQuaternionHingeSettings
 	btScalar maxMotorImpulse = 0;  ///< Velocity drive: maximum impulse per step (N·m·s, ≥ 0).
 	/// Servo: target multi-turn angle (rad), maximum speed (rad/s, > 0), maximum torque (N·m, ≥ 0).
 	btScalar servoTargetAngle = 0;
-	btScalar servoMaxSpeed = SIMD_INFINITY;  ///< Servo: maximum speed (rad/s, > 0).
+	btScalar servoMaxSpeed = SIMD_INFINITY;   ///< Servo: maximum speed (rad/s, > 0).
 	btScalar servoMaxTorque = SIMD_INFINITY;  ///< Servo: maximum torque (N·m, ≥ 0).
 	/// Spring: rest angle (rad), frequency (Hz, > 0), damping ratio (≥ 0; 1 is critical).
 	btScalar springRestAngle = 0;
-	btScalar springFrequency = 1;  ///< Spring: frequency (Hz, > 0).
+	btScalar springFrequency = 1;     ///< Spring: frequency (Hz, > 0).
 	btScalar springDampingRatio = 1;  ///< Spring: damping ratio (≥ 0; 1 is critical).
 	/// Joint friction: maximum friction torque (N·m, ≥ 0); 0 is off (no row).
 	btScalar maxFrictionTorque = 0;
@@ -126,7 +126,7 @@ struct btQuaternionHingeSettings
 	btScalar rowCfm[6] = {0, 0, 0, 0, 0, 0};
 	btScalar stopErp = 0;  ///< ERP of the limit row (setParam(BT_CONSTRAINT_STOP_ERP)), used when flags has its bit.
 	btScalar stopCfm = 0;  ///< CFM of the limit row (setParam(BT_CONSTRAINT_STOP_CFM)), used when flags has its bit.
-	int flags = 0;  ///< Which overrides are set: BT_QHINGE_FLAGS_* bits (as btHingeFlags for stock's).
+	int flags = 0;         ///< Which overrides are set: BT_QHINGE_FLAGS_* bits (as btHingeFlags for stock's).
 };
 
 /// A hinge for Bullet whose two angular rows come from the relative quaternion of the joint frames (MATH.md
@@ -222,14 +222,14 @@ public:
 	// ---- btHingeConstraint's public methods ----------------------------------------------------------------------------
 	const btRigidBody& getRigidBodyA() const { return m_rbA; }  ///< Body A (const).
 	const btRigidBody& getRigidBodyB() const { return m_rbB; }  ///< Body B (const).
-	btRigidBody& getRigidBodyA() { return m_rbA; }  ///< Body A.
-	btRigidBody& getRigidBodyB() { return m_rbB; }  ///< Body B.
+	btRigidBody& getRigidBodyA() { return m_rbA; }              ///< Body A.
+	btRigidBody& getRigidBodyB() { return m_rbB; }              ///< Body B.
 
 	/// Frames (non-const access as in btHingeConstraint: an edit is re-validated before the next solve).
 	btTransform& getFrameOffsetA();
-	btTransform& getFrameOffsetB();  ///< Joint frame in body B (an edit is re-validated before the next solve).
-	btTransform& getAFrame() { return getFrameOffsetA(); }  ///< Joint frame in body A, as getFrameOffsetA().
-	btTransform& getBFrame() { return getFrameOffsetB(); }  ///< Joint frame in body B, as getFrameOffsetB().
+	btTransform& getFrameOffsetB();                                       ///< Joint frame in body B (an edit is re-validated before the next solve).
+	btTransform& getAFrame() { return getFrameOffsetA(); }                ///< Joint frame in body A, as getFrameOffsetA().
+	btTransform& getBFrame() { return getFrameOffsetB(); }                ///< Joint frame in body B, as getFrameOffsetB().
 	const btTransform& getAFrame() const { return m_settings.frameInA; }  ///< Joint frame in body A (const).
 	const btTransform& getBFrame() const { return m_settings.frameInB; }  ///< Joint frame in body B (const).
 	/// Sets both joint frames (rigid frames only; refused otherwise).
@@ -252,7 +252,7 @@ public:
 
 	/// btHingeConstraint's motor: a velocity drive. enableAngularMotor(false, …) turns the velocity drive off.
 	void enableAngularMotor(bool enableMotor, btScalar targetVelocity, btScalar maxMotorImpulse);
-	void enableMotor(bool enableMotor);  ///< Turns the velocity drive on or off, keeping its target and impulse.
+	void enableMotor(bool enableMotor);                 ///< Turns the velocity drive on or off, keeping its target and impulse.
 	void setMaxMotorImpulse(btScalar maxMotorImpulse);  ///< The velocity drive's maximum impulse per step (N·m·s, ≥ 0).
 	/// The velocity drive's target angular velocity (rad/s).
 	void setMotorTargetVelocity(btScalar motorTargetVelocity);
@@ -416,20 +416,20 @@ private:
 	btScalar rowCfm(int kind, btScalar globalCfm) const;
 
 	btQuaternionHingeSettings m_settings;
-	btScalar m_multiTurnAngle;     // user convention (getHingeAngle's sign), continuous
-	bool m_multiTurnValid;         // m_multiTurnAngle tracks the pose
-	bool m_trackAlways;            // the user asked for the multi-turn angle once
-	bool m_framesMayHaveChanged;   // a non-const frame reference was handed out
-	btTransform m_checkedFrameA;   // the frames as last validated: an unchanged frame needs no check
+	btScalar m_multiTurnAngle;    // user convention (getHingeAngle's sign), continuous
+	bool m_multiTurnValid;        // m_multiTurnAngle tracks the pose
+	bool m_trackAlways;           // the user asked for the multi-turn angle once
+	bool m_framesMayHaveChanged;  // a non-const frame reference was handed out
+	btTransform m_checkedFrameA;  // the frames as last validated: an unchanged frame needs no check
 	btTransform m_checkedFrameB;
-	int m_limitSign;               // +1 lower stop row, −1 upper stop row, 0 none (as stock's getLimitSign)
-	bool m_limitLocked;            // the rest of the last limit test (AxisRows.h's LimitState), for the limit row
+	int m_limitSign;     // +1 lower stop row, −1 upper stop row, 0 none (as stock's getLimitSign)
+	bool m_limitLocked;  // the rest of the last limit test (AxisRows.h's LimitState), for the limit row
 	bool m_limitSpeculative;
 	btScalar m_limitDistance;
-	btScalar m_lastTimeStep;       // h of the last getInfo2 (0 before the first)
+	btScalar m_lastTimeStep;  // h of the last getInfo2 (0 before the first)
 	int m_numRows;
 	btQuaternionHingeFault m_fault;
-	Pose m_pose;        // computed in getInfo1 when an angle was needed, reused by the getInfo2 that follows
+	Pose m_pose;  // computed in getInfo1 when an angle was needed, reused by the getInfo2 that follows
 	bool m_poseCached;
 	bool m_limitIsOneTurn;  // the last setLimit gave a range of exactly one turn: reported by hasLimit(), never acts
 	// The basis and order of the solver's bilateral rows (SolverRowBasis.h's RowBasis, and the quaternion rows before
@@ -483,8 +483,8 @@ public:
 /// Bullet's solver meets them in; every other constraint keeps its place), with the same
 /// disableCollisionsBetweenLinkedBodies choice as far as the world can tell it (addConstraint(c, true) registers c
 /// with its bodies). Deletes nothing. (btReplaceHingeConstraints and btQuaternionHingeWorldImporter swap through it.)
-QUATHINGE_API void btSwapConstraintInWorld(btDynamicsWorld * world, btTypedConstraint * constraint,
-										   btTypedConstraint * replacement);
+QUATHINGE_API void btSwapConstraintInWorld(btDynamicsWorld* world, btTypedConstraint* constraint,
+										   btTypedConstraint* replacement);
 
 /// Replaces every btHingeConstraint in `world` by its equivalent btQuaternionHingeConstraint (a
 /// btHingeAccumulatedAngleConstraint by a btQuaternionHingeAccumulatedAngleConstraint with its count), each in the stock
@@ -494,7 +494,7 @@ QUATHINGE_API void btSwapConstraintInWorld(btDynamicsWorld * world, btTypedConst
 /// caller's, appended to *added (if not null), to remove from the world and delete before the bodies go; the removed
 /// stock hinges stay with whoever allocated them, appended to *removedStock (if not null) so the caller can delete its
 /// own (a btBulletWorldImporter's are deleted by its deleteAllData()).
-QUATHINGE_API int btReplaceHingeConstraints(btDynamicsWorld * world, btAlignedObjectArray<btQuaternionHingeConstraint*>* added = 0,
-							  btAlignedObjectArray<btHingeConstraint*>* removedStock = 0);
+QUATHINGE_API int btReplaceHingeConstraints(btDynamicsWorld* world, btAlignedObjectArray<btQuaternionHingeConstraint*>* added = 0,
+											btAlignedObjectArray<btHingeConstraint*>* removedStock = 0);
 
 #endif  // BT_QUATERNION_HINGE_CONSTRAINT_H

@@ -242,7 +242,7 @@ struct btQuaternionHingeStabilizerSettings
 /// row of every island, in the units of positionTolerance.
 struct btQuaternionHingeStabilizerStats
 {
-	int islands = 0;              ///< islands projected (replayed ones included)
+	int islands = 0;  ///< islands projected (replayed ones included)
 	/// Islands at rest, left out: every input of their projection (the bodies' poses, velocities and mass properties,
 	/// the fixed partners' poses and velocities, the joints' frames, flags, limits and multi-turn angles, the step)
 	/// was, bit for bit, what it was at the last step's start or the one before, so that step's result was applied
@@ -250,43 +250,43 @@ struct btQuaternionHingeStabilizerStats
 	/// kept awake reaches such a fixed point under Bullet's solver, a chain folded against its stops a cycle of two
 	/// states; their counters below are zero, their residuals the kept ones.
 	int restingIslands = 0;
-	int positionsWithinTolerance = 0;   ///< islands projected whose joint error was already within tolerance: no Newton step
-	int velocitiesWithinTolerance = 0;  ///< islands projected whose J v was already within tolerance: no velocity solve
-	int sparseIslands = 0;        ///< of which solved by the general sparse LDLᵀ (closed loops, or forced)
-	int joints = 0;  ///< joints projected (point constraints and locked 6-dofs included: projectPoint/LockedConstraints)
-	int quaternionHinges = 0;   ///< of which btQuaternionHingeConstraints
-	int stockHinges = 0;        ///< … btHingeConstraints and btHingeAccumulatedAngleConstraints (projectStockHinges)
-	int dofHinges = 0;          ///< … 6-dofs set up as hinges (projectDofHinges)
-	int pointConstraints = 0;   ///< … point constraints (projectPointConstraints)
-	int lockedConstraints = 0;  ///< … locked 6-dofs (projectLockedConstraints)
-	int filteredJoints = 0;       ///< joints the filter left out (setFilter): not projected, not counted above
-	int bodies = 0;               ///< movable bodies in those islands
-	int attachedBodiesMoved = 0;  ///< attached bodies carried with their host (moveAttachedBodies)
-	int attachedConstraintsClosed = 0;  ///< attached bodies put on their constraint (closeAttachedConstraints)
-	int rows = 0;                 ///< rows of K (bilateral rows plus one slot per joint with a limit)
-	int iterations = 0;           ///< Newton iterations, the most any island used
-	int totalIterations = 0;      ///< Newton iterations summed over islands
-	int factorizations = 0;       ///< numeric factorizations of K (usually 2 per island: see "How it solves")
-	int solves = 0;               ///< solves with a factorized K (Newton iterations plus velocity solves)
-	int backtracks = 0;           ///< Newton steps halved because the full step made ‖C‖ worse
-	int metricSwitches = 0;       ///< islands whose position correction switched to the stiff metric (see above)
-	int activeLimitRows = 0;      ///< limit rows projected (violated at some iteration)
-	int contactRows = 0;          ///< contact rows projected (projectContacts: penetrating at some iteration)
-	btScalar residualBefore = 0;  ///< ‖C‖∞ before the position projection
-	btScalar residualAfter = 0;   ///< ‖C‖∞ after it (at the final positions)
+	int positionsWithinTolerance = 0;     ///< islands projected whose joint error was already within tolerance: no Newton step
+	int velocitiesWithinTolerance = 0;    ///< islands projected whose J v was already within tolerance: no velocity solve
+	int sparseIslands = 0;                ///< of which solved by the general sparse LDLᵀ (closed loops, or forced)
+	int joints = 0;                       ///< joints projected (point constraints and locked 6-dofs included: projectPoint/LockedConstraints)
+	int quaternionHinges = 0;             ///< of which btQuaternionHingeConstraints
+	int stockHinges = 0;                  ///< … btHingeConstraints and btHingeAccumulatedAngleConstraints (projectStockHinges)
+	int dofHinges = 0;                    ///< … 6-dofs set up as hinges (projectDofHinges)
+	int pointConstraints = 0;             ///< … point constraints (projectPointConstraints)
+	int lockedConstraints = 0;            ///< … locked 6-dofs (projectLockedConstraints)
+	int filteredJoints = 0;               ///< joints the filter left out (setFilter): not projected, not counted above
+	int bodies = 0;                       ///< movable bodies in those islands
+	int attachedBodiesMoved = 0;          ///< attached bodies carried with their host (moveAttachedBodies)
+	int attachedConstraintsClosed = 0;    ///< attached bodies put on their constraint (closeAttachedConstraints)
+	int rows = 0;                         ///< rows of K (bilateral rows plus one slot per joint with a limit)
+	int iterations = 0;                   ///< Newton iterations, the most any island used
+	int totalIterations = 0;              ///< Newton iterations summed over islands
+	int factorizations = 0;               ///< numeric factorizations of K (usually 2 per island: see "How it solves")
+	int solves = 0;                       ///< solves with a factorized K (Newton iterations plus velocity solves)
+	int backtracks = 0;                   ///< Newton steps halved because the full step made ‖C‖ worse
+	int metricSwitches = 0;               ///< islands whose position correction switched to the stiff metric (see above)
+	int activeLimitRows = 0;              ///< limit rows projected (violated at some iteration)
+	int contactRows = 0;                  ///< contact rows projected (projectContacts: penetrating at some iteration)
+	btScalar residualBefore = 0;          ///< ‖C‖∞ before the position projection
+	btScalar residualAfter = 0;           ///< ‖C‖∞ after it (at the final positions)
 	btScalar velocityResidualBefore = 0;  ///< ‖J v‖∞ (m/s, rad/s) before the velocity projection
 	btScalar velocityResidualAfter = 0;   ///< ‖J v‖∞ after it, at the final positions (each row's |J v| is then below
 										  ///< its position threshold over the time step, or the rounding floor)
-	bool structureRebuilt = false;  ///< the islands were (re)built this step: joints, bodies or their state changed
-	int islandsBuilt = 0;  ///< … of which built anew (an island whose own joints and contacts are unchanged is kept)
-	int numericalIssues = 0;        ///< pivots that were not positive and were treated as inactive rows (none expected)
-	btScalar energyCorrection = 0;  ///< the largest relative velocity scaling |s − 1| applied (keepEnergyAndMomentum,
-									///< conserveEnergy)
-	int energyRestoredIslands = 0;    ///< islands whose kinetic energy keepEnergyAndMomentum set this step
-	int momentumRestoredIslands = 0;  ///< free islands whose momentum keepEnergyAndMomentum put back this step
-	int energyGuardedIslands = 0;     ///< islands whose energy restoration the guard has stopped (their averaged energy
-									  ///< rose by the restoration's own work; until the island is rebuilt)
-	double timeMicroseconds = 0;    ///< wall time of the call
+	bool structureRebuilt = false;        ///< the islands were (re)built this step: joints, bodies or their state changed
+	int islandsBuilt = 0;                 ///< … of which built anew (an island whose own joints and contacts are unchanged is kept)
+	int numericalIssues = 0;              ///< pivots that were not positive and were treated as inactive rows (none expected)
+	btScalar energyCorrection = 0;        ///< the largest relative velocity scaling |s − 1| applied (keepEnergyAndMomentum,
+										  ///< conserveEnergy)
+	int energyRestoredIslands = 0;        ///< islands whose kinetic energy keepEnergyAndMomentum set this step
+	int momentumRestoredIslands = 0;      ///< free islands whose momentum keepEnergyAndMomentum put back this step
+	int energyGuardedIslands = 0;         ///< islands whose energy restoration the guard has stopped (their averaged energy
+										  ///< rose by the restoration's own work; until the island is rebuilt)
+	double timeMicroseconds = 0;          ///< wall time of the call
 };
 
 /// Chooses the joints a stabilizer projects (btQuaternionHingeStabilizer::setFilter), as btOverlapFilterCallback chooses
