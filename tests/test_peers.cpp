@@ -1,5 +1,7 @@
 // The peers (docs/PEERS.md): Bullet's other solvers as joint kinds, btMultiBody with its default damping and with a
 // closed loop, and the common reference trajectory the trajectory errors are measured against (Reference.h).
+// Built with the scene library only (tests/CMakeLists.txt defines QUATHINGE_HAVE_SCENES then).
+#ifdef QUATHINGE_HAVE_SCENES
 #include "JointKinds.h"
 #include "Reference.h"
 #include "SceneSpec.h"
@@ -177,3 +179,5 @@ TEST(Peers, CommonReferenceErrorShrinksWithTheStep)
 	EXPECT_DOUBLE_EQ(c.referenceHorizon, 2);
 	EXPECT_THROW(readReference(::testing::TempDir() + "no_such.ref"), std::runtime_error);
 }
+
+#endif  // QUATHINGE_HAVE_SCENES

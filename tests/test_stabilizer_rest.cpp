@@ -3,6 +3,8 @@
 // lockstep, one whose stabilizer may replay and one whose kept results are forgotten before every step
 // (setSettings(getSettings())), and asserts that the two stay identical to the bit — the replay is exact, whatever
 // the scene does — and that the replay happens where the scene is at rest and not where anything changes.
+// Built with the stabilizer only (tests/CMakeLists.txt defines QUATHINGE_HAVE_STABILIZER then).
+#ifdef QUATHINGE_HAVE_STABILIZER
 #include "support/StabilizerScene.h"
 
 #include <gtest/gtest.h>
@@ -306,3 +308,5 @@ TEST(StabilizerRest, AnythingThatChangesIsProjectedAgain)
 		EXPECT_GT(resting, 0);
 	}
 }
+
+#endif  // QUATHINGE_HAVE_STABILIZER

@@ -1,8 +1,8 @@
 // The stabilizer tests' scene (StabilizerScene.h): building the world, bodies, hinges and chains; measuring them.
-#include "support/StabilizerScene.h"
-
 // Built when the QuatHinge::Stabilizer target is (tests/CMakeLists.txt defines QUATHINGE_HAVE_STABILIZER then).
 #ifdef QUATHINGE_HAVE_STABILIZER
+#include "support/StabilizerScene.h"
+
 #include <algorithm>
 #include <cmath>
 
