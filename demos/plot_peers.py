@@ -25,18 +25,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 
 import readme_section  # noqa: E402  (beside this script)
 
-KIND_STYLE = {
-    "stock": ("tab:red", "o"),
-    "stock+mlcp": ("darkred", "P"),
-    "stock+nncg": ("salmon", "X"),
-    "6dof2": ("tab:orange", "s"),
-    "quaternion": ("tab:blue", "^"),
-    "quaternion+mlcp": ("navy", "<"),
-    "quaternion+nncg": ("deepskyblue", ">"),
-    "quaternion+stab": ("tab:green", "D"),
-    "multibody": ("tab:purple", "v"),
-    "multibody-damped": ("violet", "*"),
-}
+from kind_style import KIND_STYLE  # noqa: E402  (beside this script)
 CLASS = {"pendulum": "one joint", "double_pendulum": "chain", "chain10": "chain", "chain30": "chain",
          "heavy100": "mass ratio 1:100", "four_bar": "closed loop", "kuka_iiwa": "robot (URDF)"}
 SEPARATION_BOUNDS = [1e-2, 1e-3, 1e-4]  # m

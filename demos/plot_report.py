@@ -26,15 +26,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 
 import readme_section  # noqa: E402  (beside this script)
 
-KIND_STYLE = {
-    "stock": ("tab:red", "o"),
-    "6dof2": ("tab:orange", "s"),
-    "quaternion": ("tab:blue", "^"),
-    "quaternion+stab": ("tab:green", "D"),
-    "multibody": ("tab:purple", "v"),
-    "stock+stab": ("tab:brown", "P"),
-    "6dof2+stab": ("tab:olive", "X"),
-}
+from kind_style import KIND_STYLE  # noqa: E402  (beside this script)
 
 
 def load(path):
