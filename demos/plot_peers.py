@@ -15,7 +15,6 @@
 import argparse
 import csv
 import json
-import math
 import os
 
 import matplotlib
@@ -26,6 +25,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 import readme_section  # noqa: E402  (beside this script)
 
 from kind_style import KIND_STYLE  # noqa: E402  (beside this script)
+from plot_report import pareto  # noqa: E402  (the same front as the report's plots)
 CLASS = {"pendulum": "one joint", "double_pendulum": "chain", "chain10": "chain", "chain30": "chain",
          "heavy100": "mass ratio 1:100", "four_bar": "closed loop", "kuka_iiwa": "robot (URDF)"}
 SEPARATION_BOUNDS = [1e-2, 1e-3, 1e-4]  # m
@@ -46,15 +46,6 @@ def skipped(paths):
         with open(path) as f:
             out += [r for r in json.load(f)["runs"] if r["skipped"]]
     return out
-
-
-def pareto(points):
-    front, best = [], math.inf
-    for t, e in sorted(points):
-        if e < best:
-            front.append((t, e))
-            best = e
-    return front
 
 
 def hz(r):

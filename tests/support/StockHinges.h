@@ -41,11 +41,10 @@ inline btMatrix3x3 basisWithAxis(int axis, const btVector3& w)
 	return m;
 }
 
-// A 6-dof hinge, free axis `axis`, limited to [lo, hi] (lo > hi: free): Bullet's URDF importer's revolute joint.
-inline btGeneric6DofSpring2Constraint* dofHinge(btRigidBody& a, btRigidBody& b, const btTransform& fa, const btTransform& fb,
-												int axis, RotateOrder order, btScalar lo, btScalar hi)
+// Locks a 6-dof's linear axes and every angle but `axis`, limited to [lo, hi] (lo > hi: free).
+template <class Dof>
+inline Dof* asHinge(Dof* d, int axis, btScalar lo, btScalar hi)
 {
-	auto* d = new btGeneric6DofSpring2Constraint(a, b, fa, fb, order);
 	d->setLinearLowerLimit(btVector3(0, 0, 0));
 	d->setLinearUpperLimit(btVector3(0, 0, 0));
 	btVector3 low(0, 0, 0), high(0, 0, 0);
@@ -56,18 +55,17 @@ inline btGeneric6DofSpring2Constraint* dofHinge(btRigidBody& a, btRigidBody& b, 
 	return d;
 }
 
+// A 6-dof hinge, free axis `axis`, limited to [lo, hi] (lo > hi: free): Bullet's URDF importer's revolute joint.
+inline btGeneric6DofSpring2Constraint* dofHinge(btRigidBody& a, btRigidBody& b, const btTransform& fa, const btTransform& fb,
+												int axis, RotateOrder order, btScalar lo, btScalar hi)
+{
+	return asHinge(new btGeneric6DofSpring2Constraint(a, b, fa, fb, order), axis, lo, hi);
+}
+
 inline btGeneric6DofConstraint* oldDofHinge(btRigidBody& a, btRigidBody& b, const btTransform& fa, const btTransform& fb,
 											int axis, btScalar lo, btScalar hi)
 {
-	auto* d = new btGeneric6DofConstraint(a, b, fa, fb, true);
-	d->setLinearLowerLimit(btVector3(0, 0, 0));
-	d->setLinearUpperLimit(btVector3(0, 0, 0));
-	btVector3 low(0, 0, 0), high(0, 0, 0);
-	low[axis] = lo;
-	high[axis] = hi;
-	d->setAngularLowerLimit(low);
-	d->setAngularUpperLimit(high);
-	return d;
+	return asHinge(new btGeneric6DofConstraint(a, b, fa, fb, true), axis, lo, hi);
 }
 
 // Body transforms putting joint frame B turned by theta about joint frame A's column `axis`, B's pivot `offset` off
