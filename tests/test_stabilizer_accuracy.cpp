@@ -186,7 +186,10 @@ TEST(Stabilizer, RotationWeightHoldsATenThousandToOneLoad)
 			  << workDefault.newtonPerStep << std::endl;
 	EXPECT_LE(sepDefault, kHeavySeparationTolerance);
 	EXPECT_LE(misDefault, kMisalignmentToleranceDeg);
-	EXPECT_TRUE(!massFinite || sepMass > 100 * kHeavySeparationTolerance);  // the weight is what holds it
+	// the weight is what holds it: the mass metric misses the tolerance by far (float: 8.6e-3 m with the energy
+	// restoration, 7.9e-2 m with the projection's own damping; the chain swings differently)
+	const double kMassMetricMiss = 20;  // times kHeavySeparationTolerance
+	EXPECT_TRUE(!massFinite || sepMass > kMassMetricMiss * kHeavySeparationTolerance);
 }
 
 TEST(Stabilizer, RotationWeightKeepsNewtonShortOnALongChain)

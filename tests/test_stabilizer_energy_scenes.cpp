@@ -1,5 +1,6 @@
 // The report's conservative scenes with the stabilizer's defaults (keepEnergyAndMomentum, docs/ENERGY.md): energy drift
-// against stock's on the same scene (the reference: Bullet's own hinge), 10 s at 60 Hz, 10 iterations.
+// against stock's on the same scene (the reference: Bullet's own hinge), 10 s at 60 and 240 Hz, 10 iterations; a
+// robot arm released from rest falls as without the restoration.
 #ifdef QUATHINGE_HAVE_SCENES
 #include "JointKinds.h"
 #include "SceneSpec.h"
@@ -9,49 +10,74 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <string>
+#include <vector>
 
 using namespace quathinge::scenes;
 
 namespace
 {
-Metrics run(const std::string& name, Kind kind)
+Metrics run(const std::string& name, Kind kind, double dt = 1.0 / 60)
 {
 	RunSettings settings;
+	settings.dt = dt;
 	settings.duration = 10;
 	settings.reference = false;
 	return runScene(makeScene(name, 1), kind, settings);
 }
 }  // namespace
 
-TEST(StabilizerEnergyScenes, ConservativeScenesDriftLessThanStock)
+namespace
 {
-	// Energy drift (max |E − E₀| over the scene's energy scale, Metrics::energyDrift) at most stock's and at most
-	// kDriftTol; double_pendulum (0.095) and four_bar (0.071, a closed loop) are below stock's but above kDriftTol
-	// (docs/ENERGY.md): they are held to stock's only.
-	const double kDriftTol = 0.05;       // of the energy scale
-	const double kSeparationTol = 1e-5;  // m
+// Energy drift (max |E − E₀| over the scene's energy scale, Metrics::energyDrift) at most stock's and at most
+// driftTol, joints within separationTol (m), on the conservative scenes at step dt (s); `heldToStock` (if any) only to
+// stock's.
+void expectConservativeScenesHeld(double dt, double driftTol, double separationTol, const char* heldToStock = "")
+{
 	for (const char* name : {"pendulum", "double_pendulum", "four_bar", "pendulum5", "chain10", "chain30", "rotor100"})
 	{
-		const Metrics stock = run(name, Kind::Stock), stab = run(name, Kind::QuaternionStabilized);
-		std::printf("[ figures  ] %s: energy drift %.3g (stock %.3g), max separation %.3g m\n", name, stab.energyDrift,
-					stock.energyDrift, stab.maxSeparation);
+		const Metrics stock = run(name, Kind::Stock, dt), stab = run(name, Kind::QuaternionStabilized, dt);
+		std::printf("[ figures  ] %s at %.0f Hz: energy drift %.3g (stock %.3g), max separation %.3g m\n", name, 1 / dt,
+					stab.energyDrift, stock.energyDrift, stab.maxSeparation);
 		EXPECT_FALSE(stab.blewUp) << name;
 		EXPECT_LE(stab.energyDrift, stock.energyDrift) << name;
-		if (std::string(name) != "double_pendulum" && std::string(name) != "four_bar")
+		if (std::string(name) != heldToStock)
 		{
-			EXPECT_LE(stab.energyDrift, kDriftTol) << name;
+			EXPECT_LE(stab.energyDrift, driftTol) << name;
 		}
-		EXPECT_LE(stab.maxSeparation, kSeparationTol) << name;
+		EXPECT_LE(stab.maxSeparation, separationTol) << name;
 	}
+}
+}  // namespace
+
+TEST(StabilizerEnergyScenes, ConservativeScenesDriftLessThanStock)
+{
+	const double kDriftTol = 0.05;       // of the energy scale
+	const double kSeparationTol = 1e-5;  // m
+	expectConservativeScenesHeld(1.0 / 60, kDriftTol, kSeparationTol);
+}
+
+TEST(StabilizerEnergyScenes, ConservativeScenesDriftLessThanStockAt240Hz)
+{
+	const double kDriftTol = 0.02;       // of the energy scale
+	const double kSeparationTol = 1e-5;  // m
+#ifdef BT_USE_DOUBLE_PRECISION
+	// chain10 in double: 0.030, lost in Bullet's own step, by its implicit gyroscopic force
+	// (BT_ENABLE_GYROSCOPIC_FORCE_IMPLICIT_BODY, on by default) while the chain's end whips round; 0.0020 without that
+	// flag, 0.015 in float (docs/ENERGY.md)
+	expectConservativeScenesHeld(1.0 / 240, kDriftTol, kSeparationTol, "chain10");
+#else
+	expectConservativeScenesHeld(1.0 / 240, kDriftTol, kSeparationTol);
+#endif
 }
 
 TEST(StabilizerEnergyScenes, LoadedChainsStayBoundedWithoutGain)
 {
 	// 1:100 to 1:10000 loads: no blow-up, energy drift at most stock's, no gain above the start beyond kGainTol of the
-	// energy scale (the restoration pays the position correction's lift of the sag from the kinetic energy).
+	// energy scale (the solver's leftover sags the load; its lift and its kinetic energy are taken out: Q16).
 	const double kGainTol = 0.2;         // of the energy scale
 	const double kSeparationTol = 1e-5;  // m
 	for (const char* name : {"heavy100", "heavy1000", "heavy10000"})
@@ -130,6 +156,52 @@ TEST(StabilizerEnergyScenes, RestingBodiesStillFallAsleep)
 	{
 		EXPECT_GT(chainsOn.sleepTime, 0);
 	}
+}
+
+TEST(StabilizerEnergyScenes, AnArmReleasedFromRestIsNotHeldBack)
+{
+	// The KUKA arm from URDF starts at rest, upright, and falls under gravity. Bullet's solver leaves the arm a sag
+	// each step that the position correction lifts back (0.021 J a step, against a kinetic energy of 1e-8 J at the
+	// start); a restoration that charged that lift to the kinetic energy scaled the velocities down by the cap every
+	// step and held the arm back (0.28 m from the common reference after 1.15 s). The arm's bodies with the
+	// restoration stay within kPathTol (RMS over bodies, the largest over the run) of the same arm with the
+	// projection alone and of the bare quaternion hinges (no stabilizer), each a run without the restoration.
+	const double kPathTol = 0.03;  // m
+	const double kSeconds = 1.15;  // s: the peers' horizon for this scene (docs/PEERS.md)
+	const SceneSpec scene = makeScene("kuka_iiwa");
+	ASSERT_TRUE(scene.unavailable.empty()) << scene.unavailable;
+	Simulation on(scene, Kind::QuaternionStabilized), off(scene, Kind::QuaternionStabilized), bare(scene, Kind::Quaternion);
+	btQuaternionHingeStabilizerSettings settings = off.stabilizer()->getSettings();
+	settings.keepEnergyAndMomentum = false;
+	off.stabilizer()->setSettings(settings);
+	ASSERT_TRUE(on.stabilizer()->getSettings().keepEnergyAndMomentum);
+	double fromOff = 0, fromBare = 0, travelled = 0;  // m
+	std::vector<btVector3> start;
+	for (const btRigidBody* b : on.bodies) start.push_back(b->getCenterOfMassPosition());
+	const double dt = 1.0 / 60;
+	for (int step = 1; step <= int(std::lround(kSeconds / dt)); ++step)
+	{
+		for (Simulation* sim : {&on, &off, &bare}) sim->step(dt, 30);
+		double sumOff = 0, sumBare = 0, sumTravel = 0;
+		for (size_t i = 0; i < on.bodies.size(); ++i)
+		{
+			const btVector3 x = on.bodies[i]->getCenterOfMassPosition();
+			sumOff += double((x - off.bodies[i]->getCenterOfMassPosition()).length2());
+			sumBare += double((x - bare.bodies[i]->getCenterOfMassPosition()).length2());
+			sumTravel += double((x - start[i]).length2());
+		}
+		const double n = double(on.bodies.size());
+		fromOff = std::max(fromOff, std::sqrt(sumOff / n));
+		fromBare = std::max(fromBare, std::sqrt(sumBare / n));
+		travelled = std::max(travelled, std::sqrt(sumTravel / n));
+	}
+	std::printf(
+		"[ figures  ] kuka_iiwa over %.3g s: fell %.3g m (RMS); apart from the projection alone %.3g m, from the "
+		"bare hinges %.3g m\n",
+		kSeconds, travelled, fromOff, fromBare);
+	EXPECT_GT(travelled, 5 * kPathTol);  // it falls: the bound below is not met by standing still
+	EXPECT_LE(fromOff, kPathTol);
+	EXPECT_LE(fromBare, kPathTol);
 }
 
 #endif  // QUATHINGE_HAVE_SCENES

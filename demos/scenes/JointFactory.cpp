@@ -200,16 +200,21 @@ public:
 class StabilizedQuaternionFactory : public QuaternionFactory
 {
 public:
-	explicit StabilizedQuaternionFactory(bool conserveEnergy) : m_conserveEnergy(conserveEnergy) {}
+	StabilizedQuaternionFactory(bool conserveEnergy, bool keepEnergy)
+		: m_conserveEnergy(conserveEnergy), m_keepEnergy(keepEnergy)
+	{
+	}
 	std::unique_ptr<btActionInterface> makeAction() const override
 	{
 		btQuaternionHingeStabilizerSettings settings;
 		settings.conserveEnergy = m_conserveEnergy;
+		settings.keepEnergyAndMomentum = m_keepEnergy;
 		return std::unique_ptr<btActionInterface>(new btQuaternionHingeStabilizer(settings));
 	}
 
 private:
 	bool m_conserveEnergy;
+	bool m_keepEnergy;
 };
 }  // namespace
 
@@ -218,8 +223,9 @@ const JointFactory* jointFactory(Kind kind)
 	static const StockFactory stock;
 	static const Generic6Dof2Factory generic6Dof2;
 	static const QuaternionFactory quaternion;
-	static const StabilizedQuaternionFactory stabilized(false);
-	static const StabilizedQuaternionFactory stabilizedEnergy(true);
+	static const StabilizedQuaternionFactory stabilized(false, true);
+	static const StabilizedQuaternionFactory stabilizedEnergy(true, true);
+	static const StabilizedQuaternionFactory stabilizedDamped(false, false);
 	static const Stabilized<StockFactory> stockStabilized;
 	static const Stabilized<Generic6Dof2Factory> generic6Dof2Stabilized;
 	switch (kind)
@@ -229,6 +235,7 @@ const JointFactory* jointFactory(Kind kind)
 		case Kind::Quaternion: return &quaternion;
 		case Kind::QuaternionStabilized: return &stabilized;
 		case Kind::QuaternionStabilizedEnergy: return &stabilizedEnergy;
+		case Kind::QuaternionStabilizedDamped: return &stabilizedDamped;
 		case Kind::MultiBody: return nullptr;
 		case Kind::StockStabilized: return &stockStabilized;
 		case Kind::Generic6Dof2Stabilized: return &generic6Dof2Stabilized;

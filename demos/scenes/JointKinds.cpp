@@ -40,6 +40,8 @@ const std::vector<KindEntry>& kindCatalog()
 		{Kind::Generic6Dof2Stabilized, "6dof2+stab", "the 6dof2 hinges + btQuaternionHingeStabilizer (no class swapped)"},
 		{Kind::QuaternionStabilizedEnergy, "quaternion+stab+energy",
 		 "quaternion+stab with the deprecated conserveEnergy option (conservative scenes only; not in the defaults)"},
+		{Kind::QuaternionStabilizedDamped, "quaternion+stab-damped",
+		 "quaternion+stab with keepEnergyAndMomentum off: the projection's own damping (docs/ENERGY.md)"},
 		{Kind::StockMLCP, "stock+mlcp", "btHingeConstraint, btMLCPSolver + btDantzigSolver (<= 200 rows)"},
 		{Kind::StockNNCG, "stock+nncg", "btHingeConstraint, btNNCGConstraintSolver"},
 		{Kind::QuaternionMLCP, "quaternion+mlcp", "btQuaternionHingeConstraint, btMLCPSolver + btDantzigSolver"},

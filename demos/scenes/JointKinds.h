@@ -27,6 +27,9 @@ enum class Kind
 	/// QuaternionStabilized with the stabilizer's conserveEnergy option: for conservative scenes only (not among
 	/// allKinds(): the energy table of demos/make_report.sh asks for it by name)
 	QuaternionStabilizedEnergy,
+	/// QuaternionStabilized with keepEnergyAndMomentum off: the projection's own damping (docs/ENERGY.md, "before";
+	/// not among allKinds())
+	QuaternionStabilizedDamped,
 	StockStabilized,         ///< btHingeConstraint + btQuaternionHingeStabilizer (no class swapped)
 	Generic6Dof2Stabilized,  ///< the 6dof2 kind's joints + btQuaternionHingeStabilizer (no class swapped)
 	// The peers (docs/PEERS.md): Bullet's other solvers, and btMultiBody with its default damping. Not among allKinds().

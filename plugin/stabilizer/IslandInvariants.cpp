@@ -23,6 +23,8 @@ namespace
 // offsets are a few per cent per step at most (the curvature share (m d²/I)(ωh)², 1.2% per step for a bar pendulum
 // at its lowest point at 60 Hz); the cap binds only where the kinetic energy is tiny: at a turning point, at rest.
 const double kMaxScalePerStep = 0.1;
+// The scale's cap is widened to T(v) − T_r only while the solver's leftover T_r is at most this share of T(v) (J/J).
+const double kLeftoverShare = 0.5;
 // Below this share of the island's energy scale the kinetic energy is not scaled (J/J): nothing to carry it.
 const double kTinyKinetic = 1e-12;
 // The guard: the energy's running average (time constant kGuardTime, s) may rise above its lowest value by at most
@@ -70,6 +72,17 @@ void setVelocities(btRigidBody& body, const btVector3& v, const btVector3& w)
 	body.setInterpolationAngularVelocity(w);
 }
 
+// The largest scale of a held island's velocities (Q19): 1 + kMaxScalePerStep above what Bullet's step left them, less
+// the solver's leftover (T(v) − T_r, when that is most of T(v)): a fast island whose velocity projection took more
+// than the cap (a chain's end whipping round: (ωh)² of 20% in one step) gets it back, and an island at rest, whose
+// T(v) is the leftover's, is not pushed.
+double highestScale(const Island::Invariants& inv, const ProjectionResult& result, double kinetic)
+{
+	const double kept = inv.kinetic - result.leftoverKinetic;
+	const double cap = 1 + kMaxScalePerStep;
+	return kept > kLeftoverShare * inv.kinetic && kept > kinetic ? cap * std::sqrt(kept / kinetic) : cap;
+}
+
 // The guard's running average of the energy after the step (J), and whether it trips now.
 void updateGuard(Island& island, double energyAfter, double restorationWork, double timeStep)
 {
@@ -105,7 +118,7 @@ bool hangsOnMovingBody(const Island& island)
 void recordInvariants(Island& island)
 {
 	Island::Invariants& inv = island.invariants;
-	double kinetic = 0, mass = 0;
+	double kinetic = 0, mass = 0, gravityPower = 0;
 	Eigen::Vector3d momentum = Eigen::Vector3d::Zero(), moment = Eigen::Vector3d::Zero();
 	bool free = true, source = false, touching = false;
 	for (IslandBody& b : island.bodies)
@@ -115,6 +128,7 @@ void recordInvariants(Island& island)
 		const double m = massOf(body);
 		const Eigen::Vector3d x = toEigen(b.startPosition), v = toEigen(body.getLinearVelocity());
 		kinetic += kineticOf(body, m);
+		gravityPower += m * toEigen(body.getGravity()).dot(v);
 		mass += m;
 		momentum += m * v;
 		moment += m * x;
@@ -129,6 +143,7 @@ void recordInvariants(Island& island)
 	}
 	if (hangsOnMovingBody(island)) source = true;
 	inv.kinetic = kinetic;
+	inv.gravityPower = gravityPower;
 	inv.mass = mass;
 	inv.momentum = momentum;
 	inv.free = free && !source && mass > 0;
@@ -161,7 +176,7 @@ InvariantResult restoreInvariants(Island& island, ProjectionResult& result, doub
 		return out;
 	}
 	// The potential energy the projection added (Q16) and the state it left (q', v').
-	double lift = 0, potential = 0, kinetic = 0, mass = 0;
+	double lift = 0, potential = 0, kinetic = 0, mass = 0, gravityPower = 0;
 	Eigen::Vector3d momentum = Eigen::Vector3d::Zero(), moment = Eigen::Vector3d::Zero();
 	for (const IslandBody& b : island.bodies)
 	{
@@ -171,6 +186,7 @@ InvariantResult restoreInvariants(Island& island, ProjectionResult& result, doub
 		lift -= m * double(body.getGravity().dot(x - b.startPosition));
 		potential -= m * double(body.getGravity().dot(x));
 		kinetic += kineticOf(body, m);
+		gravityPower += m * toEigen(body.getGravity()).dot(toEigen(body.getLinearVelocity()));
 		mass += m;
 		momentum += m * toEigen(body.getLinearVelocity());
 		moment += m * toEigen(x);
@@ -178,11 +194,16 @@ InvariantResult restoreInvariants(Island& island, ProjectionResult& result, doub
 	const bool oneSided = result.activeLimitRows > 0 || result.contactRows > 0;  // a stop's or a contact's work
 	// a contact outside the island is Bullet's solver's work (and the stop that lets a ragdoll settle): not restored
 	const bool energy = restoreEnergy && !oneSided && !inv.touching && !inv.guarded && !hangsOnMovingBody(island);
-	// (Q16) the lift of the sag the solver's leftover let happen is paid by the kinetic energy; the joints' curvature's
-	// share (measured by the position stage, ProjectionResult::curvatureLift) is not: the step's drift along the
-	// tangent left the manifold, the motion did not gain that potential energy
-	const double target = inv.kinetic - (lift - result.curvatureLift);  // T*
-	double after = kinetic;                                             // the kinetic energy this leaves (J)
+	// (Q16) Bullet's step (semi-implicit Euler: v₁ = v₀ + h(g + M⁻¹Jᵀλ/h), x₁ = x₀ + h v₁) keeps the shadow energy
+	// Ẽ = E + ½h Σ m g·v exactly when its impulse closes J(x₀) v₁ = 0; the solver's leftover r changed it by
+	// ½rᵀK⁻¹r − ½ΔV_r (its kinetic energy, and the potential energy its drift h r lost, half of it counted in Ẽ's
+	// term). The restoration gives that back: Ẽ(q', v*) = Ẽ(q, v) + ½ΔV_r − T_r. The curvature (the step's drift off
+	// the joints along their tangent, and the velocity it leaves across them) needs no term of its own: the position
+	// correction's lift and the velocity stage's loss are both in Ẽ(q', v').
+	const double half = 0.5 * timeStep;
+	const double goal = inv.kinetic + half * inv.gravityPower - lift + 0.5 * result.leftoverLift - result.leftoverKinetic;
+	const double target = goal - half * gravityPower;  // T* (taking Ẽ's term at v')
+	double after = kinetic;                            // the kinetic energy this leaves (J)
 	if (inv.free)
 	{
 		// (Q17) the island's rigid motion: V = P/M, Ω = I_lock⁻¹ L about the centre of mass, I_lock its locked inertia
@@ -232,10 +253,14 @@ InvariantResult restoreInvariants(Island& island, ProjectionResult& result, doub
 		out.scale = s;
 		result.velocitiesRestored = true;
 	}
-	else if (energy && kinetic > kTinyKinetic * inv.scale)
+	else if (energy && kinetic > kTinyKinetic * inv.scale && kinetic > result.leftoverKinetic)
 	{
-		// an island held by a fixed partner: v' scaled as a whole (J v' = 0 is linear in v')
-		const double s = std::clamp(std::sqrt(std::max(target, 0.0) / kinetic), 1 - kMaxScalePerStep, 1 + kMaxScalePerStep);
+		// (below the leftover's kinetic energy T_r the goal is the difference of terms larger than T(v'): an arm at
+		// rest, upright, whose fall starts from that noise, is left to the projection)
+		// an island held by a fixed partner: v' scaled as a whole (J v' = 0 is linear in v'), s² T(v') + s ½h Σ m g·v' =
+		// the goal, the root near 1
+		const double b = half * gravityPower, disc = b * b + 4 * kinetic * std::max(goal, 0.0);
+		const double s = std::clamp((std::sqrt(disc) - b) / (2 * kinetic), 1 - kMaxScalePerStep, highestScale(inv, result, kinetic));
 		const btScalar scale = btScalar(s);
 		for (IslandBody& b : island.bodies)
 			setVelocities(*b.rigid, b.rigid->getLinearVelocity() * scale, b.rigid->getAngularVelocity() * scale);

@@ -3,7 +3,9 @@
 // Ideal joints exert no power, so neither may their correction. Bullet has integrated the step (q, v) when the
 // stabilizer runs; the projection moves the island to (q', v'). Per island, across that one call:
 //   (Q15) E(q, v) = Σ_b ½ m_b |v_b|² + ½ ω_bᵀ I_b ω_b − m_b g_b·x_b           (g_b: the body's own gravity)
-//   (Q16) T* = T(v) − ΔV,  ΔV = −Σ_b m_b g_b·(x'_b − x_b)       the kinetic energy that makes E(q', v*) = E(q, v)
+//   (Q16) T(v*) + ½h Σ m g·v* = T(v) + ½h Σ m g·v − ΔV + ½ΔV_r − T_r,  ΔV = −Σ_b m_b g_b·(x'_b − x_b)
+//         Bullet's semi-implicit Euler step keeps E + ½h Σ m g·v but for the solver's leftover r (ΔV_r the potential
+//         energy of its sag, T_r = ½ rᵀK⁻¹r its speed's kinetic energy; IslandProjection.cpp measures both)
 // A free island (every row between two island bodies, nothing outside touching it, no restricted axes) also gets its
 // linear momentum P and angular momentum L about its centre of mass back by a rigid velocity correction, which J v
 // cannot see (Q17, Q18); then only its deformation velocity (v' less its rigid motion, M-orthogonal to it) is scaled

@@ -96,6 +96,10 @@ struct IslandStep
 	double factorAge = SIMD_INFINITY;
 	// The position stage projected the velocities with one of its factorizations (projectVelocitiesExactly).
 	bool velocitiesProjected = false;
+	// The factorization held is of K in the mass metric M (the velocity stage's), not the weighted one.
+	bool factorInM = false;
+	// JointBlock::leftover holds this step's C_r (recordLeftover).
+	bool leftoverRecorded = false;
 
 	IslandStep(BlockIsland<R>& i, const ProjectionSettings& s) : island(i), settings(s)
 	{
@@ -113,8 +117,10 @@ struct IslandStep
 
 	bool factorize()
 	{
+		factorInM = false;
 		if (!refactorize(island, settings.regularization, result)) return false;
 		factorAge = 0;
+		factorInM = positionMetricIsM();
 		return true;
 	}
 	// Switches the position correction to the stiff metric (loadInverseMass) for the rest of the step; false if it is
@@ -156,12 +162,11 @@ struct IslandStep
 		changeVelocities(island);
 	}
 
-	// keepEnergyAndMomentum (IslandInvariants.h, docs/ENERGY.md Q16): the share of the position correction's potential
-	// energy change that the joints' curvature causes, not the solver's leftover. With C(x₀) ≈ h r + ½h² vᵀ∇²C v and
-	// J(x₀) v ≈ r + h vᵀ∇²C v (r the solver's velocity residual at the step's start, where C was closed), the curvature
-	// part of C is C_c = h J(x₀) v − C(x₀); its correction Δx_c = M⁻¹Jᵀ K⁻¹(−C_c) (the factorization just made at x₀,
-	// one solve) changes the potential energy by −Σ m g·Δx_c. Uses λ and the deltas as scratch before the Newton solve.
-	void measureCurvatureLift()
+	// keepEnergyAndMomentum (IslandInvariants.h, docs/ENERGY.md Q16): the solver's leftover in C at the step's start.
+	// With C(x₀) ≈ h r + ½h² vᵀ∇²C v and J(x₀) v ≈ r + h vᵀ∇²C v (r the solver's velocity residual, C closed by the last
+	// call), the curvature's part is h J(x₀) v − C(x₀) and the leftover's C_r = h r = 2 C(x₀) − h J(x₀) v. Before the
+	// first Newton step (C and J are the start's).
+	void recordLeftover()
 	{
 		const double h = settings.timeStep;
 		for (size_t j = 0; j < island.joints.size(); ++j)
@@ -177,13 +182,25 @@ struct IslandStep
 				u.segment<3>(6 * side) << double(v.x()), double(v.y()), double(v.z());
 				u.segment<3>(6 * side + 3) << double(w.x()), double(w.y()), double(w.z());
 			}
-			const JointBlock<R>& jb = island.blocks[j];
-			island.lambda[j] = jb.c - h * (jb.jacobian * u);
+			JointBlock<R>& jb = island.blocks[j];
+			jb.leftover = 2 * jb.c - h * (jb.jacobian * u);
 		}
+		leftoverRecorded = true;
+	}
+
+	// (Q16) What the solver's leftover r did in Bullet's step, in the mass metric M with the velocity stage's
+	// factorization (one solve, after it; not measured without one): Bullet's impulse fell short by δλ, the bodies got
+	// δv = M⁻¹Jᵀδλ more (J δv = r; kinetic energy ½ rᵀK⁻¹r = ½ C_rᵀK⁻¹C_r / h²) and moved h δv, whose undoing
+	// Δx_r = M⁻¹JᵀK⁻¹(−C_r) changes the potential energy by −Σ m g·Δx_r. Uses λ and the deltas as scratch.
+	void measureLeftover()
+	{
+		if (!leftoverRecorded || !factorInM) return;
+		const double h = settings.timeStep;
+		for (size_t j = 0; j < island.joints.size(); ++j) island.lambda[j] = -island.blocks[j].leftover;
 		if (island.useSparse) island.sparse->template solve<R>(island.lambda.data());
 		else island.block.solve(island.k, island.lambda.data());
 		accumulateDeltas(island);
-		double lift = 0;
+		double lift = 0, kinetic = 0;
 		for (const IslandBody& b : island.bodies)
 			if (b.rigid->getInvMass() > 0)
 			{
@@ -191,7 +208,10 @@ struct IslandStep
 				lift -= (double(g.x()) * b.delta[0] + double(g.y()) * b.delta[1] + double(g.z()) * b.delta[2]) /
 						double(b.rigid->getInvMass());
 			}
-		result.curvatureLift = lift;
+		for (size_t j = 0; j < island.joints.size(); ++j)
+			kinetic -= island.blocks[j].leftover.template head<R>().dot(island.lambda[j].template head<R>());
+		result.leftoverLift = lift;
+		result.leftoverKinetic = 0.5 * kinetic / (h * h);
 	}
 
 	// Some contact row in the system pulls in the last solve (λ < 0: IslandContacts.h).
@@ -233,7 +253,7 @@ struct IslandStep
 				if (factorNow)
 				{
 					if (!factorize()) break;
-					if (settings.curvatureLift && result.iterations == 0) measureCurvatureLift();
+					if (settings.measureLeftover && result.iterations == 0) recordLeftover();
 					chordStalled = false;
 					// After the first Newton step the bodies only move by the small rest of the correction: project the
 					// velocities now, with this factorization, and only touch them up at the final positions below
@@ -351,6 +371,7 @@ ProjectionResult projectBlocks(BlockIsland<R>& island, const ProjectionSettings&
 	IslandStep<R> step(island, settings);
 	step.projectPositions();
 	if (settings.velocities) step.projectVelocities();
+	if (settings.measureLeftover) step.measureLeftover();
 	return step.result;
 }
 }  // namespace

@@ -186,6 +186,7 @@ struct JointBlock
 	JointJacobian<R> jacobian;         // rows beyond the joint's own and an inactive limit row are zero
 	BlockVector<R> c;                  // C at the last position evaluation; zero on padding rows
 	BlockVector<R> jv;                 // J v at the last velocity evaluation; zero on padding rows
+	BlockVector<R> leftover;           // the solver's leftover's share of C at the step's start, h r (Q16)
 	Eigen::Matrix<double, 3, R> h[2];  // I_b⁻¹ A_bᵀ, A_b the angular part of J_b (R×3): see JointSlot::linearSign
 };
 
@@ -213,7 +214,8 @@ struct ProjectionResult
 	btScalar residualAfter = 0;
 	btScalar velocityResidualBefore = 0;
 	btScalar velocityResidualAfter = 0;
-	double curvatureLift = 0;         // J: the joints' curvature's share of the position correction's potential energy change
+	double leftoverLift = 0;          // J: the potential energy of undoing the solver's leftover h r (in M; Q16)
+	double leftoverKinetic = 0;       // J: the kinetic energy of the leftover velocity r, ½ rᵀ K⁻¹ r (in M; Q16)
 	bool velocitiesRestored = false;  // the energy and momentum restoration changed the velocities (IslandInvariants.h)
 };
 
@@ -279,6 +281,7 @@ struct Island
 	struct Invariants
 	{
 		double kinetic = 0;                                  // J
+		double gravityPower = 0;                             // W: Σ m_b g_b·v_b (the shadow energy's term, Q16)
 		Eigen::Vector3d momentum = Eigen::Vector3d::Zero();  // kg·m/s
 		double mass = 0;                                     // kg
 		bool free = false;                                   // no fixed partner, nothing outside touching, every axis free: P and L are invariants
@@ -320,8 +323,8 @@ struct ProjectionSettings
 	bool positions;
 	bool velocities;
 	double regularization;
-	double rotationWeight;       // the position metric's inertia factor (btQuaternionHingeStabilizerSettings)
-	bool curvatureLift = false;  // measure ProjectionResult::curvatureLift (keepEnergyAndMomentum)
+	double rotationWeight;         // the position metric's inertia factor (btQuaternionHingeStabilizerSettings)
+	bool measureLeftover = false;  // measure ProjectionResult::leftoverLift, leftoverKinetic (keepEnergyAndMomentum)
 };
 
 

@@ -154,7 +154,7 @@ const btQuaternionHingeStabilizerStats& btQuaternionHingeStabilizer::stabilize(b
 	settings.velocities = m_settings.projectVelocities;
 	settings.regularization = m_settings.regularization;
 	settings.rotationWeight = m_settings.positionRotationWeight;
-	settings.curvatureLift = m_settings.keepEnergyAndMomentum;
+	settings.measureLeftover = m_settings.keepEnergyAndMomentum;
 	// Bodies touching something outside their island (the ground, another object: a contact at or below zero
 	// distance) take a tenth of their share of the position correction in its weighted metric, so that a ragdoll on
 	// the ground is closed by moving its free parts rather than pushing the grounded ones into the ground, which the
