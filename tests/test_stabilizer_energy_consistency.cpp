@@ -221,11 +221,13 @@ TEST(StabilizerEnergy, ABarPendulumKeepsItsEnergyAtEveryStepAt240Hz)
 
 TEST(StabilizerEnergy, AFreeSpinningChainKeepsItsMomentum)
 {
-	// Ideal hinges exert internal forces only: a free chain's linear momentum is the projection's to keep (put back
-	// every step, Q17), and its kinetic energy must drift less than with the projection's own damping. The angular
-	// momentum is printed, not held: docs/ENERGY.md gives the figures (the target, the bare joints' drift + 1e-3, is
-	// not met; putting L back through the island's locked inertia was measured to make Bullet's next steps drift more).
-	const double kMomentumTol = 1e-4;  // relative linear momentum drift
+	// Ideal hinges exert internal forces only: a free chain's linear and angular momentum and its kinetic energy are
+	// the projection's to keep (put back every step, Q17–Q19). What is left is Bullet's own step, which the bare
+	// quaternion hinges (no stabilizer) measure on the same chain: the stabilized chain may drift by at most that
+	// plus a small excess. Without the restoration the position stage alone takes 0.29–0.31 of L in 10 s.
+	const double kMomentumTol = 1e-4;            // relative linear momentum drift
+	const double kAngularMomentumExcess = 1e-3;  // relative angular momentum drift above the bare joints'
+	const double kKineticEnergyExcess = 0.01;    // relative kinetic energy drift above the bare joints'
 	for (const bool cubes : {false, true})
 	{
 		const FreeFigures bare = spinFreeChain(cubes, false, false);
@@ -239,7 +241,8 @@ TEST(StabilizerEnergy, AFreeSpinningChainKeepsItsMomentum)
 			off.angularMomentum, bare.angularMomentum, on.kineticEnergy, off.kineticEnergy, bare.kineticEnergy,
 			on.maxSeparation, bare.maxSeparation);
 		EXPECT_LT(on.momentum, kMomentumTol);
-		EXPECT_LT(on.kineticEnergy, off.kineticEnergy);
+		EXPECT_LT(on.angularMomentum, bare.angularMomentum + kAngularMomentumExcess);
+		EXPECT_LT(on.kineticEnergy, bare.kineticEnergy + kKineticEnergyExcess);
 		EXPECT_LT(on.maxSeparation, kSeparationTolerance);
 	}
 }
