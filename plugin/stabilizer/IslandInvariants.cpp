@@ -239,8 +239,16 @@ InvariantResult restoreInvariants(Island& island, ProjectionResult& result, doub
 		// spin became a fast spin about that axis (docs/ENERGY.md). An island tied to bodies outside it by constraints
 		// the stabilizer does not project is part of a larger free system: spinning it alone would shear them.
 		double alpha = 1;
-		if (!inv.tied && 0.5 * angular.dot(spinNow) > kTinyKinetic * inv.scale)
-			alpha = std::clamp(angular.dot(inv.angular) / angular.squaredNorm(), 1 - kMaxSpinScalePerStep, 1 + kMaxSpinScalePerStep);
+		const double spinKinetic = 0.5 * angular.dot(spinNow);  // ½ L'·Ω'
+		if (!inv.tied && spinKinetic > kTinyKinetic * inv.scale)
+		{
+			// the rigid spin takes no more kinetic energy than the island has, T* less the drift's: at the pose the
+			// position stage pulled in, L costs more energy than at Bullet's (a skater pulling in her arms). Without the
+			// energy restoration (a stop's step, the guard) it takes none: α ≤ 1.
+			const double room = energy ? std::max(target - 0.5 * inv.momentum.squaredNorm() / mass, 0.0) : spinKinetic;
+			alpha = std::min(angular.dot(inv.angular) / angular.squaredNorm(), std::sqrt(room / spinKinetic));
+			alpha = std::clamp(alpha, 1 - kMaxSpinScalePerStep, 1 + kMaxSpinScalePerStep);
+		}
 		const Eigen::Vector3d velocity = inv.momentum / mass, spin = alpha * spinNow;
 		// (Q18) the deformation d = v' − (its rigid motion) is M-orthogonal to every rigid motion: T = T_rigid + T_d
 		double deformation = 0;
