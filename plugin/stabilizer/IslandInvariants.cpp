@@ -237,15 +237,15 @@ InvariantResult restoreInvariants(Island& island, ProjectionResult& result, doub
 		// stage shortened the lever arms (L' = (1 − ½(ωh)²) L for a rigid spin), it did not turn the spin. Not through
 		// I_lock⁻¹: a thin chain's I_lock is nearly singular about its long axis, and a small error of L across the
 		// spin became a fast spin about that axis (docs/ENERGY.md). An island tied to bodies outside it by constraints
-		// the stabilizer does not project is part of a larger free system: spinning it alone would shear them.
+		// the stabilizer does not project is part of a larger free system: spinning it alone would shear them. L is put
+		// back in the steps whose energy is (not in a stop's step, nor once the guard has stopped the island).
 		double alpha = 1;
 		const double spinKinetic = 0.5 * angular.dot(spinNow);  // ½ L'·Ω'
-		if (!inv.tied && spinKinetic > kTinyKinetic * inv.scale)
+		if (energy && !inv.tied && spinKinetic > kTinyKinetic * inv.scale)
 		{
 			// the rigid spin takes no more kinetic energy than the island has, T* less the drift's: at the pose the
-			// position stage pulled in, L costs more energy than at Bullet's (a skater pulling in her arms). Without the
-			// energy restoration (a stop's step, the guard) it takes none: α ≤ 1.
-			const double room = energy ? std::max(target - 0.5 * inv.momentum.squaredNorm() / mass, 0.0) : spinKinetic;
+			// position stage pulled in, L costs more energy than at Bullet's (a skater pulling in her arms)
+			const double room = std::max(target - 0.5 * inv.momentum.squaredNorm() / mass, 0.0);
 			alpha = std::min(angular.dot(inv.angular) / angular.squaredNorm(), std::sqrt(room / spinKinetic));
 			alpha = std::clamp(alpha, 1 - kMaxSpinScalePerStep, 1 + kMaxSpinScalePerStep);
 		}
