@@ -224,7 +224,7 @@ TEST(StabilizerEnergy, AFreeSpinningChainKeepsItsMomentum)
 	// Ideal hinges exert internal forces only: a free chain's linear and angular momentum and its kinetic energy are
 	// the projection's to keep (put back every step, Q17–Q19). What is left is Bullet's own step, which the bare
 	// quaternion hinges (no stabilizer) measure on the same chain: the stabilized chain may drift by at most that
-	// plus a small excess. Without the restoration the position stage alone takes 0.29–0.31 of L in 10 s.
+	// plus a small excess. Without the restoration the position stage alone takes 0.28–0.31 of L in 10 s.
 	const double kMomentumTol = 1e-4;            // relative linear momentum drift
 	const double kAngularMomentumExcess = 1e-3;  // relative angular momentum drift above the bare joints'
 	const double kKineticEnergyExcess = 0.01;    // relative kinetic energy drift above the bare joints'
