@@ -117,11 +117,11 @@ struct FreeFigures
 	double maxSeparation = 0;  // m
 };
 
-// Three links hinged end to end (axes z, y), in zero gravity, set spinning as one rigid body (ω = (0.3, 0.5, 2) rad/s
-// about their centre of mass, which moves at (0.2, 0.1, 0) m/s); 10 s at 60 Hz. Thin links: 1 m × 0.1 m × 0.1 m;
-// cube links: 0.5 m cubes. The spin is about no principal axis of the chain, so the hinges flex all along.
+// Three links hinged end to end (axes z, y), in zero gravity, set spinning as one rigid body (ω = spinRate·(0.15, 0.25,
+// 1) rad/s about their centre of mass, which moves at (0.2, 0.1, 0) m/s); 10 s at 60 Hz. Thin links: 1 m × 0.1 m × 0.1
+// m; cube links: 0.5 m cubes. The spin is about no principal axis of the chain, so the hinges flex all along.
 // withStabilizer false: the bare quaternion hinges (Bullet's integrator alone).
-FreeFigures spinFreeChain(bool cubes, bool withStabilizer, bool keep)
+FreeFigures spinFreeChain(bool cubes, bool withStabilizer, bool keep, btScalar spinRate = 2)
 {
 	StabilizerScene scene;
 	scene.world().setGravity(btVector3(0, 0, 0));
@@ -137,7 +137,7 @@ FreeFigures spinFreeChain(bool cubes, bool withStabilizer, bool keep)
 		}
 		links.push_back(link);
 	}
-	const btVector3 spin(btScalar(0.3), btScalar(0.5), 2), drift(btScalar(0.2), btScalar(0.1), 0), centre(length, 0, 0);
+	const btVector3 spin = spinRate * btVector3(btScalar(0.15), btScalar(0.25), 1), drift(btScalar(0.2), btScalar(0.1), 0), centre(length, 0, 0);
 	for (btRigidBody* link : links)
 	{
 		link->setLinearVelocity(drift + spin.cross(link->getCenterOfMassPosition() - centre));
@@ -221,27 +221,33 @@ TEST(StabilizerEnergy, ABarPendulumKeepsItsEnergyAtEveryStepAt240Hz)
 
 TEST(StabilizerEnergy, AFreeSpinningChainKeepsItsMomentum)
 {
-	// Ideal hinges exert internal forces only: a free chain's linear momentum is the projection's to keep (put back
-	// every step, Q17), and its kinetic energy must drift less than with the projection's own damping. The angular
-	// momentum is printed, not held: docs/ENERGY.md gives the figures (the target, the bare joints' drift + 1e-3, is
-	// not met; putting L back through the island's locked inertia was measured to make Bullet's next steps drift more).
-	const double kMomentumTol = 1e-4;  // relative linear momentum drift
-	for (const bool cubes : {false, true})
-	{
-		const FreeFigures bare = spinFreeChain(cubes, false, false);
-		const FreeFigures off = spinFreeChain(cubes, true, false);
-		const FreeFigures on = spinFreeChain(cubes, true, true);
-		std::printf(
-			"[ figures  ] free chain of 3 %s links, 10 s: momentum drift %.3g (before %.3g, bare %.3g), angular "
-			"momentum %.3g (before %.3g, bare %.3g), kinetic energy %.3g (before %.3g, bare %.3g), max separation "
-			"%.3g m (bare %.3g m)\n",
-			cubes ? "cube" : "thin", on.momentum, off.momentum, bare.momentum, on.angularMomentum,
-			off.angularMomentum, bare.angularMomentum, on.kineticEnergy, off.kineticEnergy, bare.kineticEnergy,
-			on.maxSeparation, bare.maxSeparation);
-		EXPECT_LT(on.momentum, kMomentumTol);
-		EXPECT_LT(on.kineticEnergy, off.kineticEnergy);
-		EXPECT_LT(on.maxSeparation, kSeparationTolerance);
-	}
+	// Ideal hinges exert internal forces only: a free chain's linear and angular momentum and its kinetic energy are
+	// the projection's to keep (put back every step, Q17–Q19). What is left is Bullet's own step, which the bare
+	// quaternion hinges (no stabilizer) measure on the same chain: the stabilized chain may drift by at most that
+	// plus a small excess. Without the restoration the position stage alone takes 0.28–0.31 of L in 10 s.
+	const double kMomentumTol = 1e-4;            // relative linear momentum drift
+	const double kAngularMomentumExcess = 1e-3;  // relative angular momentum drift above the bare joints'
+	const double kKineticEnergyExcess = 0.01;    // relative kinetic energy drift above the bare joints'
+	// ω_z = 2 rad/s (ωh = 0.033 rad at 60 Hz, the position stage's loss ½(ωh)² = 5.6e-4 of L per step), and three
+	// times that (ωh = 0.1 rad), where the bare joints lose a quarter of L
+	for (const btScalar spinRate : {btScalar(2), btScalar(6)})
+		for (const bool cubes : {false, true})
+		{
+			const FreeFigures bare = spinFreeChain(cubes, false, false, spinRate);
+			const FreeFigures off = spinFreeChain(cubes, true, false, spinRate);
+			const FreeFigures on = spinFreeChain(cubes, true, true, spinRate);
+			std::printf(
+				"[ figures  ] free chain of 3 %s links at %g rad/s, 10 s: momentum drift %.3g (before %.3g, bare %.3g), "
+				"angular momentum %.3g (before %.3g, bare %.3g), kinetic energy %.3g (before %.3g, bare %.3g), max "
+				"separation %.3g m (bare %.3g m)\n",
+				cubes ? "cube" : "thin", double(spinRate), on.momentum, off.momentum, bare.momentum, on.angularMomentum,
+				off.angularMomentum, bare.angularMomentum, on.kineticEnergy, off.kineticEnergy, bare.kineticEnergy,
+				on.maxSeparation, bare.maxSeparation);
+			EXPECT_LT(on.momentum, kMomentumTol);
+			EXPECT_LT(on.angularMomentum, bare.angularMomentum + kAngularMomentumExcess);
+			EXPECT_LT(on.kineticEnergy, bare.kineticEnergy + kKineticEnergyExcess);
+			EXPECT_LT(on.maxSeparation, kSeparationTolerance);
+		}
 }
 
 #endif  // QUATHINGE_HAVE_STABILIZER

@@ -5,6 +5,7 @@
 
 #include "quathinge/btQuaternionHingeConstraint.h"
 
+#include "BulletDynamics/Dynamics/btDynamicsWorld.h"
 #include "BulletDynamics/Dynamics/btRigidBody.h"
 
 #include <Eigen/Cholesky>
@@ -27,6 +28,10 @@ const double kMaxScalePerStep = 0.1;
 const double kLeftoverShare = 0.5;
 // Below this share of the island's energy scale the kinetic energy is not scaled (J/J): nothing to carry it.
 const double kTinyKinetic = 1e-12;
+// Largest relative change of a free island's rigid spin in one step (Q17; dimensionless). The position stage takes a
+// share of about ½(ωh)² of the spin's angular momentum (5.6e-4 at 2 rad/s and 60 Hz); the cap binds only past ωh ≈ 0.45
+// rad, where Bullet's own step is far from the motion (its per-step rotation clamp, a rotor at 1000 rad/s).
+const double kMaxSpinScalePerStep = 0.1;
 // The guard: the energy's running average (time constant kGuardTime, s) may rise above its lowest value by at most
 // kGuardGrowth of the island's energy scale while the restoration's own work since then is at least kGuardShare of
 // that rise; past it, an island without a source (a drive, an outside contact, a moving partner) stops restoring.
@@ -105,6 +110,29 @@ void updateGuard(Island& island, double energyAfter, double restorationWork, dou
 }
 }  // namespace
 
+void markTiedIslands(btDynamicsWorld& world, const IslandBodyMap& bodyOf, const Array<std::unique_ptr<Island>>& islands)
+{
+	bool anyFree = false;  // an island with no fixed partner (only such an island can be free: recordInvariants)
+	for (const auto& island : islands)
+	{
+		island->invariants.tied = false;
+		anyFree = anyFree || std::all_of(island->joints.begin(), island->joints.end(),
+										 [](const JointSlot& js) { return js.body[0] >= 0 && js.body[1] >= 0; });
+	}
+	if (!anyFree) return;
+	for (int i = 0; i < world.getNumConstraints(); ++i)
+	{
+		const btTypedConstraint& c = *world.getConstraint(i);
+		if (!c.isEnabled()) continue;
+		const auto a = bodyOf.find(&c.getRigidBodyA()), b = bodyOf.find(&c.getRigidBodyB());
+		Island* islandA = a != bodyOf.end() ? a->second.first : nullptr;
+		Island* islandB = b != bodyOf.end() ? b->second.first : nullptr;
+		if (islandA == islandB) continue;  // within one island (its joint or not, an internal force), or in none
+		if (islandA) islandA->invariants.tied = true;
+		if (islandB) islandB->invariants.tied = true;
+	}
+}
+
 bool hangsOnMovingBody(const Island& island)
 {
 	for (const JointSlot& js : island.joints)
@@ -150,6 +178,11 @@ void recordInvariants(Island& island)
 	inv.source = source;
 	inv.touching = touching;
 	const Eigen::Vector3d centre = mass > 0 ? Eigen::Vector3d(moment / mass) : Eigen::Vector3d::Zero();
+	inv.angular.setZero();  // L about the centre of mass (Q17), a free island's
+	if (inv.free)
+		for (const IslandBody& b : island.bodies)
+			inv.angular += massOf(*b.rigid) * (toEigen(b.startPosition) - centre).cross(toEigen(b.rigid->getLinearVelocity())) +
+						   inertiaOf(*b.rigid) * toEigen(b.rigid->getAngularVelocity());
 	if (inv.scale == 0)  // the island's energy scale: Σ m max(|g|, 1 m/s²)(1 m + 2|x − x̄|), plus its kinetic energy
 	{
 		for (const IslandBody& b : island.bodies)
@@ -221,9 +254,23 @@ InvariantResult restoreInvariants(Island& island, ProjectionResult& result, doub
 		}
 		const Eigen::LDLT<Eigen::Matrix3d> lockInverse(lock);
 		const Eigen::Vector3d velocityNow = momentum / mass, spinNow = lockInverse.solve(angular);
-		// P is put back (Q17); the rigid spin stays the projection's: putting L back through I_lock (the rigid motion
-		// of least M-norm with that L) was measured to make Bullet's next steps drift more (docs/ENERGY.md)
-		const Eigen::Vector3d velocity = inv.momentum / mass, spin = spinNow;
+		// P is put back (Q17), and L along the projection's own spin, Ω = α Ω', α = L'·L/|L'|²: the position
+		// stage shortened the lever arms (L' = (1 − ½(ωh)²) L for a rigid spin), it did not turn the spin. Not through
+		// I_lock⁻¹: a thin chain's I_lock is nearly singular about its long axis, and a small error of L across the
+		// spin became a fast spin about that axis (docs/ENERGY.md). An island tied to bodies outside it by constraints
+		// the stabilizer does not project is part of a larger free system: spinning it alone would shear them. L is put
+		// back in the steps whose energy is (not in a stop's step, nor once the guard has stopped the island).
+		double alpha = 1;
+		const double spinKinetic = 0.5 * angular.dot(spinNow);  // ½ L'·Ω'
+		if (energy && !inv.tied && spinKinetic > kTinyKinetic * inv.scale)
+		{
+			// the rigid spin takes no more kinetic energy than the island has, T* less the drift's: at the pose the
+			// position stage pulled in, L costs more energy than at Bullet's (a skater pulling in her arms)
+			const double room = std::max(target - 0.5 * inv.momentum.squaredNorm() / mass, 0.0);
+			alpha = std::min(angular.dot(inv.angular) / angular.squaredNorm(), std::sqrt(room / spinKinetic));
+			alpha = std::clamp(alpha, 1 - kMaxSpinScalePerStep, 1 + kMaxSpinScalePerStep);
+		}
+		const Eigen::Vector3d velocity = inv.momentum / mass, spin = alpha * spinNow;
 		// (Q18) the deformation d = v' − (its rigid motion) is M-orthogonal to every rigid motion: T = T_rigid + T_d
 		double deformation = 0;
 		for (const IslandBody& b : island.bodies)
@@ -234,7 +281,7 @@ InvariantResult restoreInvariants(Island& island, ProjectionResult& result, doub
 			const Eigen::Vector3d dw = toEigen(body.getAngularVelocity()) - spinNow;
 			deformation += 0.5 * (massOf(body) * dv.squaredNorm() + dw.dot(inertiaOf(body) * dw));
 		}
-		const double rigid = 0.5 * (inv.momentum.dot(velocity) + angular.dot(spin));
+		const double rigid = 0.5 * (inv.momentum.dot(velocity) + alpha * angular.dot(spin));  // L'·Ω' scaled by α²
 		// (Q19) the deformation scaled to what T* leaves it
 		double s = 1;
 		if (energy && deformation > kTinyKinetic * inv.scale)

@@ -8,8 +8,9 @@
 //         energy of its sag, T_r = ½ rᵀK⁻¹r its speed's kinetic energy; IslandProjection.cpp measures both)
 // A free island (every row between two island bodies, nothing outside touching it, no restricted axes) also gets its
 // linear momentum P and angular momentum L about its centre of mass back by a rigid velocity correction, which J v
-// cannot see (Q17, Q18); then only its deformation velocity (v' less its rigid motion, M-orthogonal to it) is scaled
-// to T* (Q19). An island held by a fixed partner has no momentum invariant: v' is scaled as a whole. What Bullet's own
+// cannot see: a uniform velocity for P, its rigid spin scaled for L (Q17, Q18; L not when a constraint the stabilizer
+// does not project ties it to other bodies); then only its deformation velocity (v' less its rigid motion,
+// M-orthogonal to it) is scaled to T* (Q19). An island held by a fixed partner has no momentum invariant: v' is scaled as a whole. What Bullet's own
 // step did (gravity, damping, motors, friction, contacts, limits, ERP, a push) is in (q, v) already: it is kept.
 // Not restored: a step in which a one-sided row (a limit, a contact: their stop's work) was projected or a body touches
 // something outside the island (a contact Bullet's solver works on), an island hung on a moving kinematic body (it
@@ -18,6 +19,10 @@
 #define QUATHINGE_STABILIZER_ISLAND_INVARIANTS_H
 
 #include "StabilizerIsland.h"
+
+#include <memory>
+
+class btDynamicsWorld;
 
 namespace quathinge
 {
@@ -31,6 +36,11 @@ struct InvariantResult
 	bool guarded = false;           // the guard has stopped this island's energy restoration
 	double scale = 1;               // the velocity scaling applied (Q19), 1 when none
 };
+
+/// Sets each island's Invariants::tied: an enabled constraint of the world that joins one of its bodies to a body
+/// outside it (one the stabilizer does not project: a ragdoll's cone twist). Such an island is part of a larger free
+/// system, and its own angular momentum is not put back (Q17). O(constraints).
+void markTiedIslands(btDynamicsWorld& world, const IslandBodyMap& bodyOf, const Array<std::unique_ptr<Island>>& islands);
 
 /// Records the island's energy, momentum and body positions before its projection (Island::invariants).
 void recordInvariants(Island& island);

@@ -283,10 +283,12 @@ struct Island
 		double kinetic = 0;                                  // J
 		double gravityPower = 0;                             // W: Σ m_b g_b·v_b (the shadow energy's term, Q16)
 		Eigen::Vector3d momentum = Eigen::Vector3d::Zero();  // kg·m/s
+		Eigen::Vector3d angular = Eigen::Vector3d::Zero();   // kg·m²/s, about the centre of mass (a free island)
 		double mass = 0;                                     // kg
 		bool free = false;                                   // no fixed partner, nothing outside touching, every axis free: P and L are invariants
 		bool source = false;                                 // a drive, an outside contact or a moving partner can feed energy in
 		bool touching = false;                               // a body touches something outside the island (a contact Bullet's solver works on)
+		bool tied = false;                                   // a constraint the stabilizer does not project joins a body of it to one outside (this step)
 		// the guard: the energy's running average (J), its lowest value, the restoration's summed work (J) then and now
 		double scale = 0;  // J: the island's energy scale (set at its first record)
 		double average = 0, lowest = 0, workAtLowest = 0, work = 0, elapsed = 0;

@@ -183,6 +183,7 @@ const btQuaternionHingeStabilizerStats& btQuaternionHingeStabilizer::stabilize(b
 		}
 	}
 	if (m_settings.projectContacts) gatherContacts(*world->getDispatcher(), impl.islands, impl.bodyOf);
+	if (m_settings.keepEnergyAndMomentum) markTiedIslands(*world, impl.bodyOf, impl.islands);
 	impl.attached.clear();  // keeps its capacity: no allocation the next step
 	if (m_settings.moveAttachedBodies || m_settings.closeAttachedConstraints)
 		for (const auto& island : impl.islands)

@@ -217,8 +217,8 @@ struct btQuaternionHingeStabilizerSettings
 	/// solver left undone (the sag it let happen and the speed it gave). What the joints' curvature costs (the velocity
 	/// projection's share (m d²/I)(ωh)² per step, the position correction's pull back onto the manifold) is given back. What Bullet's step did (gravity, damping, motors,
 	/// friction, contacts, limits, a push) is kept. A free island (no static, kinematic or touching partner) also
-	/// keeps its linear momentum, and only its motion relative to its rigid motion is scaled (its angular momentum is
-	/// the projection's: docs/ENERGY.md gives the figures). Not restored in a step where a limit or contact row was
+	/// keeps its linear momentum and its angular momentum (its rigid spin scaled, unless a constraint not projected ties
+	/// it to other bodies), and only its motion relative to its rigid motion is scaled. Not restored in a step where a limit or contact row was
 	/// projected (their work), on an island touching something outside it (a ragdoll on the ground settles as before),
 	/// on an island hung on a moving kinematic body, and on an island whose averaged energy
 	/// rose by the restoration's own work (a guard: getLastStats().energyGuardedIslands). At most 10% of the speeds
