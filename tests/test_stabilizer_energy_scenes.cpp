@@ -204,4 +204,45 @@ TEST(StabilizerEnergyScenes, AnArmReleasedFromRestIsNotHeldBack)
 	EXPECT_LE(fromBare, kPathTol);
 }
 
+TEST(StabilizerEnergyScenes, StiffAndExtremeCasesStayBoundedOnTheirJoints)
+{
+	// With the energy restoration on: a 200-link chain released horizontally (100 m long), a 10-link chain under
+	// 100 g, and the ragdoll scene with its ground contacts: no blow-up, no energy gain beyond kGainTol of the energy
+	// scale (the conservative ones), joints held. (The 1:10000 load: LoadedChainsStayBoundedWithoutGain.)
+	const double kGainTol = 0.2;         // of the energy scale
+	const double kSeparationTol = 1e-5;  // m
+	RunSettings settings;
+	settings.dt = 1.0 / 60;
+	settings.reference = false;
+	struct Case
+	{
+		SceneSpec scene;
+		double extent;  // m: the farthest a pivot gets from the origin
+	};
+	std::vector<Case> cases;
+	cases.push_back({chainScene(200, 1), 100});
+	SceneSpec heavyGravity = makeScene("chain10", 1);
+	heavyGravity.name = "chain10 at 100 g";
+	heavyGravity.gravity *= btScalar(100);
+	cases.push_back({heavyGravity, 5});
+	cases.push_back({makeScene("ragdoll", 1), 5});
+	for (const Case& c : cases)
+	{
+		settings.duration = c.scene.duration;
+		const Metrics stab = runScene(c.scene, Kind::QuaternionStabilized, settings);
+		// m: the rounding floor of a pivot `extent` from the origin (4ε·extent; the stabilizer's own convergence test)
+		const double floor = std::max(kSeparationTol, 4 * double(SIMD_EPSILON) * c.extent);
+		std::printf(
+			"[ figures  ] %s, %.3g s: max separation %.3g m (bound %.3g m), largest energy gain %.3g, energy drift "
+			"%.3g\n",
+			c.scene.name.c_str(), c.scene.duration, stab.maxSeparation, floor, stab.maxEnergyGain, stab.energyDrift);
+		EXPECT_FALSE(stab.blewUp) << c.scene.name;
+		EXPECT_LE(stab.maxSeparation, floor) << c.scene.name;
+		if (c.scene.conservative)
+		{
+			EXPECT_LE(stab.maxEnergyGain, kGainTol) << c.scene.name;
+		}
+	}
+}
+
 #endif  // QUATHINGE_HAVE_SCENES
