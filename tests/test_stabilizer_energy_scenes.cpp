@@ -162,8 +162,8 @@ TEST(StabilizerEnergyScenes, AnArmReleasedFromRestIsNotHeldBack)
 {
 	// The KUKA arm from URDF starts at rest, upright, and falls under gravity. Bullet's solver leaves the arm a sag
 	// each step that the position correction lifts back (0.021 J a step, against a kinetic energy of 1e-8 J at the
-	// start); a restoration that charged that lift to the kinetic energy scaled the velocities down by the cap every
-	// step and held the arm back (0.28 m from the common reference after 1.15 s). The arm's bodies with the
+	// start); a restoration that charges that lift to the kinetic energy scales the velocities down by the cap every
+	// step and holds the arm back (0.28 m from the common reference after 1.15 s). The arm's bodies with the
 	// restoration stay within kPathTol (RMS over bodies, the largest over the run) of the same arm with the
 	// projection alone and of the bare quaternion hinges (no stabilizer), each a run without the restoration.
 	const double kPathTol = 0.03;  // m
