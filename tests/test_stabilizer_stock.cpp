@@ -6,6 +6,7 @@
 // never, the wrapped angle). Worlds of them: tests/test_stabilizer_stock_worlds.cpp.
 #ifdef QUATHINGE_HAVE_STABILIZER
 #include "StockHingeRows.h"
+#include "support/RowDerivatives.h"
 #include "support/StockHinges.h"
 #include "support/World.h"
 
@@ -18,6 +19,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <functional>
+#include <memory>
 #include <random>
 #include <string>
 #include <vector>
@@ -33,10 +35,7 @@ TEST(StabilizerStock, RowsAndLimitVariableAreTheDerivatives)
 {
 	// Central differences of C and of the limit variable v under small translations and rotations of either body
 	// against J's columns and v's gradient (±g on ω_A, ω_B), over seeded random frames and poses near the hinge and up
-	// to 1 rad off it, for every kind. Relative error per max(1, |entry|): 1e-6 in double, 2e-3 in float (step 1e-5,
-	// or float's ε^⅓), as tests/test_stabilizer_locked.cpp.
-	const double tolerance = kDouble ? 1e-6 : 2e-3;                                          // dimensionless
-	const btScalar h = kDouble ? btScalar(1e-5) : btScalar(std::cbrt(double(FLT_EPSILON)));  // m or rad
+	// to 1 rad off it, for every kind (support/RowDerivatives.h: the step and the tolerance).
 	std::mt19937 rng(11);
 	std::uniform_real_distribution<double> u(-1, 1);
 	auto vec = [&](double s) { return btVector3(btScalar(s * u(rng)), btScalar(s * u(rng)), btScalar(s * u(rng))); };
@@ -53,35 +52,23 @@ TEST(StabilizerStock, RowsAndLimitVariableAreTheDerivatives)
 			btTransform tA, tB;
 			const double reach = n % 2 ? 0.05 : 1.0;
 			placeFrames(rng, fa, fb, kind.axis, 2 * u(rng), vec(0.1), expRotation(vec(reach / std::sqrt(3.0))), tA, tB);
-			btScalar C[5], J[60], Cp[5], Cm[5], Jp[60], v, vp, vm;
-			btVector3 g, gp;
-			const int rows = frameHingePositionRows(hinge, tA, tB, C, J, 0, v, g);
-			ASSERT_EQ(rows, 5);
-			for (int side = 0; side < 2; ++side)
-				for (int k = 0; k < 6; ++k)
-				{
-					auto moved = [&](btScalar s) {
-						btTransform t = side == 0 ? tA : tB;
-						btVector3 e(0, 0, 0);
-						e[k % 3] = s;
-						if (k < 3) t.setOrigin(t.getOrigin() + e);
-						else t.setRotation(expRotation(e) * t.getRotation());
-						return t;
-					};
-					frameHingePositionRows(hinge, side == 0 ? moved(h) : tA, side == 1 ? moved(h) : tB, Cp, Jp, v, vp, gp);
-					frameHingePositionRows(hinge, side == 0 ? moved(-h) : tA, side == 1 ? moved(-h) : tB, Cm, Jp, v, vm, gp);
-					for (int r = 0; r < rows; ++r)
-					{
-						const double fd = double(Cp[r] - Cm[r]) / (2 * double(h));
-						const double entry = double(J[12 * r + 6 * side + k]);
-						EXPECT_NEAR(fd, entry, tolerance * std::max(1.0, std::fabs(entry)))
-							<< kind.name << " configuration " << n << " row " << r << " side " << side << " column " << k;
-					}
-					const double fd = double(vp - vm) / (2 * double(h));
-					const double entry = k < 3 ? 0.0 : double(side == 0 ? -g[k - 3] : g[k - 3]);
-					EXPECT_NEAR(fd, entry, tolerance * std::max(1.0, std::fabs(entry)))
-						<< kind.name << " limit variable, configuration " << n << " side " << side << " column " << k;
-				}
+			btScalar C[5], J[60], v;
+			btVector3 g;
+			ASSERT_EQ(frameHingePositionRows(hinge, tA, tB, C, J, 0, v, g), 5);
+			// the five rows, then v continued from its value here
+			auto values = [&](const btTransform& ta, const btTransform& tb, double* out) {
+				btScalar Cx[5], Jx[60], vx;
+				btVector3 gx;
+				frameHingePositionRows(hinge, ta, tb, Cx, Jx, v, vx, gx);
+				for (int r = 0; r < 5; ++r) out[r] = double(Cx[r]);
+				out[5] = double(vx);
+			};
+			auto derivative = [&](int r, int column) {
+				if (r < 5) return double(J[12 * r + column]);
+				const int k = column % 6;
+				return k < 3 ? 0.0 : double(column < 6 ? -g[k - 3] : g[k - 3]);
+			};
+			expectRowDerivatives(values, derivative, tA, tB, 6, kind.name + " configuration " + std::to_string(n));
 			++checked;
 		}
 	EXPECT_EQ(checked, 12 * int(kinds().size()));
