@@ -30,6 +30,8 @@ using quathinge::stabilizer::FrameHingeKind;
 using quathinge::stabilizer::frameHingeLimitVariable;
 using quathinge::stabilizer::frameHingePositionRows;
 using quathinge::stabilizer::readFrameHinge;
+using quathinge::stabilizer::refreshFrameHinge;
+using quathinge::stabilizer::setDofHingeShape;
 
 TEST(StabilizerStock, RowsAndLimitVariableAreTheDerivatives)
 {
@@ -196,6 +198,118 @@ TEST(StabilizerStock, LimitMeaningsOfAStockHinge)
 	d->setAngularUpperLimit(btVector3(0, -1, -1));
 	EXPECT_EQ(readFrameHinge(*d, true, true, &hinge, &limit), FrameHingeKind::None);
 	EXPECT_EQ(readFrameHinge(h, false, true, &hinge, &limit), FrameHingeKind::None);  // kinds not asked for
+}
+
+namespace
+{
+// The fields of two FrameHinges, bit for bit.
+void expectSameHinge(const FrameHinge& x, const FrameHinge& y, const std::string& label)
+{
+	for (int r = 0; r < 3; ++r)
+	{
+		EXPECT_EQ(std::memcmp(&x.frameA.getBasis()[r], &y.frameA.getBasis()[r], 3 * sizeof(btScalar)), 0) << label;
+		EXPECT_EQ(std::memcmp(&x.frameB.getBasis()[r], &y.frameB.getBasis()[r], 3 * sizeof(btScalar)), 0) << label;
+	}
+	EXPECT_EQ(std::memcmp(&x.frameA.getOrigin(), &y.frameA.getOrigin(), 3 * sizeof(btScalar)), 0) << label;
+	EXPECT_EQ(std::memcmp(&x.frameB.getOrigin(), &y.frameB.getOrigin(), 3 * sizeof(btScalar)), 0) << label;
+	EXPECT_EQ(x.angularOnly, y.angularOnly) << label;
+	EXPECT_EQ(x.sign, y.sign) << label;
+	EXPECT_EQ(x.limit, y.limit) << label;
+	EXPECT_EQ(x.adjustToLimits, y.adjustToLimits) << label;
+	EXPECT_EQ(x.dofAxis, y.dofAxis) << label;
+	EXPECT_EQ(x.center, y.center) << label;
+	EXPECT_EQ(x.low, y.low) << label;
+	EXPECT_EQ(x.high, y.high) << label;
+}
+}  // namespace
+
+TEST(StabilizerStock, FramesAndLimitsReadEveryStepAreWhatTheJointSaysNow)
+{
+	// The stabilizer reads a 6-dof hinge's shape (free axis, angle's sign) when it builds the island and its frames
+	// and limits every step (refreshFrameHinge). For every kind, at seeded random frames and limits, and again after
+	// the joint's public API changed them (a stock hinge's setFrames and setLimit; a 6-dof's setFrames, the locked
+	// linear values, the free axis's limits), the step's read is bit for bit a full read of the joint as it is then.
+	std::mt19937 rng(17);
+	std::uniform_real_distribution<double> u(-1, 1);
+	auto vec = [&](double s) { return btVector3(btScalar(s * u(rng)), btScalar(s * u(rng)), btScalar(s * u(rng))); };
+	btBoxShape shape(btVector3(btScalar(0.2), btScalar(0.1), btScalar(0.1)));
+	btRigidBody a(1, nullptr, &shape), b(1, nullptr, &shape);
+	int changed = 0;
+	for (const Kind& kind : kinds())
+		for (int n = 0; n < 4; ++n)
+		{
+			std::unique_ptr<btTypedConstraint> c(kind.make(a, b, btTransform(randomUnit(rng), vec(0.3)),
+														   btTransform(randomUnit(rng), vec(0.3)), -1, 1));
+			FrameHinge full, kept;
+			unsigned shape = 0;
+			const FrameHingeKind k = readFrameHinge(*c, true, true, &full, nullptr, &shape);
+			ASSERT_NE(k, FrameHingeKind::None) << kind.name;
+			if (k == FrameHingeKind::Dof) setDofHingeShape(shape, kept);
+			refreshFrameHinge(*c, kept);
+			expectSameHinge(kept, full, kind.name + " as built");
+			// changed through the joint's API, its shape kept
+			const btTransform fa(randomUnit(rng), vec(0.3)), fb(randomUnit(rng), vec(0.3));
+			const btScalar lo = btScalar(-2 * std::fabs(u(rng))), hi = btScalar(2 * std::fabs(u(rng)));
+			const btVector3 lock = vec(0.05);
+			if (k == FrameHingeKind::Stock)
+			{
+				auto& h = static_cast<btHingeConstraint&>(*c);
+				h.setFrames(fa, fb);
+				h.setLimit(lo, hi);
+			}
+			else
+			{
+				btVector3 low(0, 0, 0), high(0, 0, 0);
+				low[kind.axis] = lo;
+				high[kind.axis] = hi;
+				if (c->getConstraintType() == D6_SPRING_2_CONSTRAINT_TYPE)
+				{
+					auto& d = static_cast<btGeneric6DofSpring2Constraint&>(*c);
+					d.setFrames(fa, fb);
+					d.setLinearLowerLimit(lock);
+					d.setLinearUpperLimit(lock);
+					d.setAngularLowerLimit(low);
+					d.setAngularUpperLimit(high);
+				}
+				else
+				{
+					auto& d = static_cast<btGeneric6DofConstraint&>(*c);
+					d.setFrames(fa, fb);
+					d.setLinearLowerLimit(lock);
+					d.setLinearUpperLimit(lock);
+					d.setAngularLowerLimit(low);
+					d.setAngularUpperLimit(high);
+				}
+			}
+			unsigned shapeNow = 0;
+			ASSERT_EQ(readFrameHinge(*c, true, true, &full, nullptr, &shapeNow), k) << kind.name;
+			ASSERT_EQ(shapeNow, shape) << kind.name;
+			refreshFrameHinge(*c, kept);
+			expectSameHinge(kept, full, kind.name + " changed");
+			EXPECT_EQ(kept.low, k == FrameHingeKind::Dof ? lo : full.low) << kind.name;
+			++changed;
+		}
+	EXPECT_EQ(changed, 4 * int(kinds().size()));
+}
+
+TEST(StabilizerStock, FrameAngleIsTheRowsAngleFromZero)
+{
+	// btQuaternionHingeConstraint::computeFrameAngle, a limit's starting angle without the rows, is bit for bit the
+	// rows' angle continued from 0, over seeded random frames and poses at every angle and up to 1 rad off the hinge.
+	std::mt19937 rng(23);
+	std::uniform_real_distribution<double> u(-1, 1);
+	auto vec = [&](double s) { return btVector3(btScalar(s * u(rng)), btScalar(s * u(rng)), btScalar(s * u(rng))); };
+	for (int n = 0; n < 400; ++n)
+	{
+		const btTransform fa(randomUnit(rng), vec(0.3)), fb(randomUnit(rng), vec(0.3));
+		btTransform tA, tB;
+		placeFrames(rng, fa, fb, 2, kPi * u(rng), vec(0.1), expRotation(vec((n % 2 ? 0.05 : 1.0) / std::sqrt(3.0))), tA,
+					tB);
+		btScalar C[5], J[60], theta;
+		btVector3 g;
+		btQuaternionHingeConstraint::computeFramePositionRows(fa, fb, false, tA, tB, C, J, 0, theta, g);
+		EXPECT_EQ(btQuaternionHingeConstraint::computeFrameAngle(fa, fb, tA, tB), theta) << "configuration " << n;
+	}
 }
 
 #endif  // QUATHINGE_HAVE_STABILIZER
