@@ -289,7 +289,7 @@ std::unique_ptr<Island> buildOne(const Array<SignatureEntry>& entries, bool forc
 		slot.frameHinge = e.frameHinge;
 		slot.dofHinge = (e.flags & SignatureEntry::kDofHinge) != 0;
 		// a 6-dof's shape, kept while the island stands (its frames and limits: refreshFrameHinge, every step)
-		if (slot.dofHinge) setDofHingeShape((e.flags / SignatureEntry::kDofShape0) & 7, slot.hinge);
+		if (slot.dofHinge) setDofHingeShape((e.flags / SignatureEntry::kDofShape0) & 31, slot.hinge);
 		slot.contact = -1;
 		slot.rigid[0] = e.body[0];
 		slot.rigid[1] = e.body[1];

@@ -83,7 +83,7 @@ btScalar eulerSign(int order, int axis)
 	return euler[axis] < 0 ? btScalar(-1) : btScalar(1);
 }
 
-// eulerSign for every order and axis, computed once (read every step for every 6-dof hinge).
+// eulerSign for every order and axis, computed once (read whenever a 6-dof hinge's island is built).
 btScalar dofAngleSign(int order, int axis)
 {
 	struct Table
@@ -169,10 +169,10 @@ bool readDof(const View& d, int order, FrameHinge* out, bool* limit, unsigned* s
 	const int free = dofFreeAxis(d);
 	if (free < 0) return false;
 	if (limit) *limit = dofLimitActs(d.angularLow(free), d.angularHigh(free));
-	const btScalar sign = dofAngleSign(order, free);
-	if (shape) *shape = unsigned(free) | (sign < 0 ? 4u : 0u);
+	const unsigned kept = unsigned(free) | unsigned(order) << 2;
+	if (shape) *shape = kept;
 	if (!out) return true;
-	setDofHingeShape(unsigned(free) | (sign < 0 ? 4u : 0u), *out);
+	setDofHingeShape(kept, *out);
 	readDofFrames(d, *out);
 	return true;
 }
@@ -210,7 +210,7 @@ FrameHingeKind readFrameHinge(const btTypedConstraint& c, bool stockHinges, bool
 void setDofHingeShape(unsigned shape, FrameHinge& hinge)
 {
 	hinge.dofAxis = int(shape & 3);
-	hinge.sign = (shape & 4) ? btScalar(-1) : btScalar(1);
+	hinge.sign = dofAngleSign(int(shape >> 2), hinge.dofAxis);
 	hinge.angularOnly = false;
 	hinge.adjustToLimits = true;
 	hinge.center = 0;

@@ -59,13 +59,13 @@ FrameHinge
 
 /// The kind of `c` (None: neither, or not set up as a hinge; kinds not asked for are None), and, when not None, its
 /// frames and limit into `out` (may be null: the kind alone, with the limit's ability to act in `limit`), and its
-/// shape into `shape` (0 for a stock hinge; a 6-dof's free axis, bits 0–1, and bit 2 when its angle is −θ).
+/// shape into `shape` (0 for a stock hinge; a 6-dof's free axis, bits 0–1, and its rotation order, bits 2–4).
 FrameHingeKind readFrameHinge(const btTypedConstraint& c, bool stockHinges, bool dofHinges, FrameHinge* out,
 							  bool* limit = nullptr, unsigned* shape = nullptr);
 
-/// A 6-dof hinge's shape (readFrameHinge's) into `hinge`: what its rows keep while the island stands (the stabilizer's
-/// scan keeps the shape in the island's signature, so a 6-dof whose free axis or rotation order changes is built
-/// again).
+/// A 6-dof hinge's shape (readFrameHinge's) into `hinge`: its free axis and its angle's sign, what its rows keep while
+/// the island stands (the stabilizer's scan keeps the shape in the island's signature, so a 6-dof whose free axis or
+/// rotation order changes is built again).
 void setDofHingeShape(unsigned shape, FrameHinge& hinge);
 
 /// The frames and limit of a hinge read before (readFrameHinge or setDofHingeShape) as they are now: what the
