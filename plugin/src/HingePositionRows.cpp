@@ -64,15 +64,6 @@ int btQuaternionHingeConstraint::computeFramePositionRows(const btTransform& fra
 	return framePositionRowsAt(pose, transA, transB, angularOnly, C, jacobian);
 }
 
-btScalar btQuaternionHingeConstraint::computeFrameAngle(const btTransform& frameInA, const btTransform& frameInB,
-														const btTransform& transA, const btTransform& transB)
-{
-	// frameAngleRowAt's angle with σ = 1 from 0: continueAngle(0, θ) = θ, as hingeAngle's θ is in (−π, π] already
-	Pose pose;
-	framePoseAt(frameInA, frameInB, transA, transB, pose);
-	return hingeAngle(pose.q);
-}
-
 int btQuaternionHingeConstraint::framePositionRowsAt(const Pose& pose, const btTransform& transA,
 													 const btTransform& transB, bool angularOnly, btScalar* C,
 													 btScalar* jacobian)

@@ -149,7 +149,8 @@ void readDofFrames(const View& d, FrameHinge& out)
 	out.frameA.setOrigin(a * d.linearLow());
 	out.frameB.setOrigin(b.getOrigin());
 	// ẑ onto the free axis: a cyclic turn of the axes (x̂, ŷ, ẑ) ← the free axis's successors, then it (columns)
-	const int next = (free + 1) % 3, last = (free + 2) % 3;
+	static const int kNext[3] = {1, 2, 0};
+	const int next = kNext[free], last = kNext[next];
 	const btMatrix3x3& ba = a.getBasis();
 	const btMatrix3x3& bb = b.getBasis();
 	out.frameA.getBasis().setValue(ba[0][next], ba[0][last], ba[0][free], ba[1][next], ba[1][last], ba[1][free],
