@@ -84,7 +84,7 @@ def main():
     parser.add_argument("--scenes", nargs="+", default=["spider", "kuka_iiwa", "panda", "minitaur", "chain10", "chain100"])
     args = parser.parse_args()
     os.makedirs(args.out, exist_ok=True)
-    rows = ["| scene | stabilizer on quaternion hinges (instructions per step) | on stock hinges | on 6-dof hinges "
+    rows = ["| scene | the stabilizer on quaternion hinges (instructions per step) | on stock hinges | on 6-dof hinges "
             "| whole step, 6dof2+stab / quaternion+stab | bare step, 6dof2 / quaternion "
             "| factorizations per step (quaternion, 6-dof) | instructions per factorization (quaternion, 6-dof) |",
             "|---|---|---|---|---|---|---|---|"]
