@@ -6,6 +6,7 @@
 // never, the wrapped angle). Worlds of them: tests/test_stabilizer_stock_worlds.cpp.
 #ifdef QUATHINGE_HAVE_STABILIZER
 #include "StockHingeRows.h"
+#include "support/RowDerivatives.h"
 #include "support/StockHinges.h"
 #include "support/World.h"
 
@@ -18,6 +19,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <functional>
+#include <memory>
 #include <random>
 #include <string>
 #include <vector>
@@ -28,15 +30,14 @@ using quathinge::stabilizer::FrameHingeKind;
 using quathinge::stabilizer::frameHingeLimitVariable;
 using quathinge::stabilizer::frameHingePositionRows;
 using quathinge::stabilizer::readFrameHinge;
+using quathinge::stabilizer::refreshFrameHinge;
+using quathinge::stabilizer::setDofHingeShape;
 
 TEST(StabilizerStock, RowsAndLimitVariableAreTheDerivatives)
 {
 	// Central differences of C and of the limit variable v under small translations and rotations of either body
 	// against J's columns and v's gradient (±g on ω_A, ω_B), over seeded random frames and poses near the hinge and up
-	// to 1 rad off it, for every kind. Relative error per max(1, |entry|): 1e-6 in double, 2e-3 in float (step 1e-5,
-	// or float's ε^⅓), as tests/test_stabilizer_locked.cpp.
-	const double tolerance = kDouble ? 1e-6 : 2e-3;                                          // dimensionless
-	const btScalar h = kDouble ? btScalar(1e-5) : btScalar(std::cbrt(double(FLT_EPSILON)));  // m or rad
+	// to 1 rad off it, for every kind (support/RowDerivatives.h: the step and the tolerance).
 	std::mt19937 rng(11);
 	std::uniform_real_distribution<double> u(-1, 1);
 	auto vec = [&](double s) { return btVector3(btScalar(s * u(rng)), btScalar(s * u(rng)), btScalar(s * u(rng))); };
@@ -53,35 +54,23 @@ TEST(StabilizerStock, RowsAndLimitVariableAreTheDerivatives)
 			btTransform tA, tB;
 			const double reach = n % 2 ? 0.05 : 1.0;
 			placeFrames(rng, fa, fb, kind.axis, 2 * u(rng), vec(0.1), expRotation(vec(reach / std::sqrt(3.0))), tA, tB);
-			btScalar C[5], J[60], Cp[5], Cm[5], Jp[60], v, vp, vm;
-			btVector3 g, gp;
-			const int rows = frameHingePositionRows(hinge, tA, tB, C, J, 0, v, g);
-			ASSERT_EQ(rows, 5);
-			for (int side = 0; side < 2; ++side)
-				for (int k = 0; k < 6; ++k)
-				{
-					auto moved = [&](btScalar s) {
-						btTransform t = side == 0 ? tA : tB;
-						btVector3 e(0, 0, 0);
-						e[k % 3] = s;
-						if (k < 3) t.setOrigin(t.getOrigin() + e);
-						else t.setRotation(expRotation(e) * t.getRotation());
-						return t;
-					};
-					frameHingePositionRows(hinge, side == 0 ? moved(h) : tA, side == 1 ? moved(h) : tB, Cp, Jp, v, vp, gp);
-					frameHingePositionRows(hinge, side == 0 ? moved(-h) : tA, side == 1 ? moved(-h) : tB, Cm, Jp, v, vm, gp);
-					for (int r = 0; r < rows; ++r)
-					{
-						const double fd = double(Cp[r] - Cm[r]) / (2 * double(h));
-						const double entry = double(J[12 * r + 6 * side + k]);
-						EXPECT_NEAR(fd, entry, tolerance * std::max(1.0, std::fabs(entry)))
-							<< kind.name << " configuration " << n << " row " << r << " side " << side << " column " << k;
-					}
-					const double fd = double(vp - vm) / (2 * double(h));
-					const double entry = k < 3 ? 0.0 : double(side == 0 ? -g[k - 3] : g[k - 3]);
-					EXPECT_NEAR(fd, entry, tolerance * std::max(1.0, std::fabs(entry)))
-						<< kind.name << " limit variable, configuration " << n << " side " << side << " column " << k;
-				}
+			btScalar C[5], J[60], v;
+			btVector3 g;
+			ASSERT_EQ(frameHingePositionRows(hinge, tA, tB, C, J, 0, v, g), 5);
+			// the five rows, then v continued from its value here
+			auto values = [&](const btTransform& ta, const btTransform& tb, double* out) {
+				btScalar Cx[5], Jx[60], vx;
+				btVector3 gx;
+				frameHingePositionRows(hinge, ta, tb, Cx, Jx, v, vx, gx);
+				for (int r = 0; r < 5; ++r) out[r] = double(Cx[r]);
+				out[5] = double(vx);
+			};
+			auto derivative = [&](int r, int column) {
+				if (r < 5) return double(J[12 * r + column]);
+				const int k = column % 6;
+				return k < 3 ? 0.0 : double(column < 6 ? -g[k - 3] : g[k - 3]);
+			};
+			expectRowDerivatives(values, derivative, tA, tB, 6, kind.name + " configuration " + std::to_string(n));
 			++checked;
 		}
 	EXPECT_EQ(checked, 12 * int(kinds().size()));
@@ -209,6 +198,118 @@ TEST(StabilizerStock, LimitMeaningsOfAStockHinge)
 	d->setAngularUpperLimit(btVector3(0, -1, -1));
 	EXPECT_EQ(readFrameHinge(*d, true, true, &hinge, &limit), FrameHingeKind::None);
 	EXPECT_EQ(readFrameHinge(h, false, true, &hinge, &limit), FrameHingeKind::None);  // kinds not asked for
+}
+
+namespace
+{
+// The fields of two FrameHinges, bit for bit.
+void expectSameHinge(const FrameHinge& x, const FrameHinge& y, const std::string& label)
+{
+	for (int r = 0; r < 3; ++r)
+	{
+		EXPECT_EQ(std::memcmp(&x.frameA.getBasis()[r], &y.frameA.getBasis()[r], 3 * sizeof(btScalar)), 0) << label;
+		EXPECT_EQ(std::memcmp(&x.frameB.getBasis()[r], &y.frameB.getBasis()[r], 3 * sizeof(btScalar)), 0) << label;
+	}
+	EXPECT_EQ(std::memcmp(&x.frameA.getOrigin(), &y.frameA.getOrigin(), 3 * sizeof(btScalar)), 0) << label;
+	EXPECT_EQ(std::memcmp(&x.frameB.getOrigin(), &y.frameB.getOrigin(), 3 * sizeof(btScalar)), 0) << label;
+	EXPECT_EQ(x.angularOnly, y.angularOnly) << label;
+	EXPECT_EQ(x.sign, y.sign) << label;
+	EXPECT_EQ(x.limit, y.limit) << label;
+	EXPECT_EQ(x.adjustToLimits, y.adjustToLimits) << label;
+	EXPECT_EQ(x.dofAxis, y.dofAxis) << label;
+	EXPECT_EQ(x.center, y.center) << label;
+	EXPECT_EQ(x.low, y.low) << label;
+	EXPECT_EQ(x.high, y.high) << label;
+}
+}  // namespace
+
+TEST(StabilizerStock, FramesAndLimitsReadEveryStepAreWhatTheJointSaysNow)
+{
+	// The stabilizer reads a 6-dof hinge's shape (free axis, angle's sign) when it builds the island and its frames
+	// and limits every step (refreshFrameHinge). For every kind, at seeded random frames and limits, and again after
+	// the joint's public API changed them (a stock hinge's setFrames and setLimit; a 6-dof's setFrames, the locked
+	// linear values, the free axis's limits), the step's read is bit for bit a full read of the joint as it is then.
+	std::mt19937 rng(17);
+	std::uniform_real_distribution<double> u(-1, 1);
+	auto vec = [&](double s) { return btVector3(btScalar(s * u(rng)), btScalar(s * u(rng)), btScalar(s * u(rng))); };
+	btBoxShape shape(btVector3(btScalar(0.2), btScalar(0.1), btScalar(0.1)));
+	btRigidBody a(1, nullptr, &shape), b(1, nullptr, &shape);
+	int changed = 0;
+	for (const Kind& kind : kinds())
+		for (int n = 0; n < 4; ++n)
+		{
+			std::unique_ptr<btTypedConstraint> c(kind.make(a, b, btTransform(randomUnit(rng), vec(0.3)),
+														   btTransform(randomUnit(rng), vec(0.3)), -1, 1));
+			FrameHinge full, kept;
+			unsigned shape = 0;
+			const FrameHingeKind k = readFrameHinge(*c, true, true, &full, nullptr, &shape);
+			ASSERT_NE(k, FrameHingeKind::None) << kind.name;
+			if (k == FrameHingeKind::Dof) setDofHingeShape(shape, kept);
+			refreshFrameHinge(*c, kept);
+			expectSameHinge(kept, full, kind.name + " as built");
+			// changed through the joint's API, its shape kept
+			const btTransform fa(randomUnit(rng), vec(0.3)), fb(randomUnit(rng), vec(0.3));
+			const btScalar lo = btScalar(-2 * std::fabs(u(rng))), hi = btScalar(2 * std::fabs(u(rng)));
+			const btVector3 lock = vec(0.05);
+			if (k == FrameHingeKind::Stock)
+			{
+				auto& h = static_cast<btHingeConstraint&>(*c);
+				h.setFrames(fa, fb);
+				h.setLimit(lo, hi);
+			}
+			else
+			{
+				btVector3 low(0, 0, 0), high(0, 0, 0);
+				low[kind.axis] = lo;
+				high[kind.axis] = hi;
+				if (c->getConstraintType() == D6_SPRING_2_CONSTRAINT_TYPE)
+				{
+					auto& d = static_cast<btGeneric6DofSpring2Constraint&>(*c);
+					d.setFrames(fa, fb);
+					d.setLinearLowerLimit(lock);
+					d.setLinearUpperLimit(lock);
+					d.setAngularLowerLimit(low);
+					d.setAngularUpperLimit(high);
+				}
+				else
+				{
+					auto& d = static_cast<btGeneric6DofConstraint&>(*c);
+					d.setFrames(fa, fb);
+					d.setLinearLowerLimit(lock);
+					d.setLinearUpperLimit(lock);
+					d.setAngularLowerLimit(low);
+					d.setAngularUpperLimit(high);
+				}
+			}
+			unsigned shapeNow = 0;
+			ASSERT_EQ(readFrameHinge(*c, true, true, &full, nullptr, &shapeNow), k) << kind.name;
+			ASSERT_EQ(shapeNow, shape) << kind.name;
+			refreshFrameHinge(*c, kept);
+			expectSameHinge(kept, full, kind.name + " changed");
+			EXPECT_EQ(kept.low, k == FrameHingeKind::Dof ? lo : full.low) << kind.name;
+			++changed;
+		}
+	EXPECT_EQ(changed, 4 * int(kinds().size()));
+}
+
+TEST(StabilizerStock, FrameAngleIsTheRowsAngleFromZero)
+{
+	// btQuaternionHingeConstraint::computeFrameAngle, a limit's starting angle without the rows, is bit for bit the
+	// rows' angle continued from 0, over seeded random frames and poses at every angle and up to 1 rad off the hinge.
+	std::mt19937 rng(23);
+	std::uniform_real_distribution<double> u(-1, 1);
+	auto vec = [&](double s) { return btVector3(btScalar(s * u(rng)), btScalar(s * u(rng)), btScalar(s * u(rng))); };
+	for (int n = 0; n < 400; ++n)
+	{
+		const btTransform fa(randomUnit(rng), vec(0.3)), fb(randomUnit(rng), vec(0.3));
+		btTransform tA, tB;
+		placeFrames(rng, fa, fb, 2, kPi * u(rng), vec(0.1), expRotation(vec((n % 2 ? 0.05 : 1.0) / std::sqrt(3.0))), tA,
+					tB);
+		btScalar C[5], J[60], theta;
+		btVector3 g;
+		btQuaternionHingeConstraint::computeFramePositionRows(fa, fb, false, tA, tB, C, J, 0, theta, g);
+		EXPECT_EQ(btQuaternionHingeConstraint::computeFrameAngle(fa, fb, tA, tB), theta) << "configuration " << n;
+	}
 }
 
 #endif  // QUATHINGE_HAVE_STABILIZER

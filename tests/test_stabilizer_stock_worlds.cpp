@@ -157,6 +157,111 @@ TEST(StabilizerStock, ChainsOfEveryKindAreHeldAndTheirLimitsKept)
 
 namespace
 {
+// Sets a hinge's limit on its own angle to [lo, hi] through its public API (the free axis's, for a 6-dof).
+void setHingeLimit(btTypedConstraint& c, int axis, btScalar lo, btScalar hi)
+{
+	btVector3 low(0, 0, 0), high(0, 0, 0);
+	low[axis] = lo;
+	high[axis] = hi;
+	if (c.getConstraintType() == HINGE_CONSTRAINT_TYPE) static_cast<btHingeConstraint&>(c).setLimit(lo, hi);
+	else if (c.getConstraintType() == D6_SPRING_2_CONSTRAINT_TYPE)
+	{
+		static_cast<btGeneric6DofSpring2Constraint&>(c).setAngularLowerLimit(low);
+		static_cast<btGeneric6DofSpring2Constraint&>(c).setAngularUpperLimit(high);
+	}
+	else
+	{
+		static_cast<btGeneric6DofConstraint&>(c).setAngularLowerLimit(low);
+		static_cast<btGeneric6DofConstraint&>(c).setAngularUpperLimit(high);
+	}
+}
+
+// Moves a hinge's frame in B by `offset` (in B's frame) through its public API (setFrames).
+void shiftFrameB(btTypedConstraint& c, const btVector3& offset)
+{
+	if (c.getConstraintType() == HINGE_CONSTRAINT_TYPE)
+	{
+		auto& h = static_cast<btHingeConstraint&>(c);
+		btTransform fb = h.getBFrame();
+		fb.setOrigin(fb.getOrigin() + offset);
+		h.setFrames(h.getAFrame(), fb);
+	}
+	else if (c.getConstraintType() == D6_SPRING_2_CONSTRAINT_TYPE)
+	{
+		auto& d = static_cast<btGeneric6DofSpring2Constraint&>(c);
+		btTransform fb = d.getFrameOffsetB();
+		fb.setOrigin(fb.getOrigin() + offset);
+		d.setFrames(d.getFrameOffsetA(), fb);
+	}
+	else
+	{
+		auto& d = static_cast<btGeneric6DofConstraint&>(c);
+		btTransform fb = d.getFrameOffsetB();
+		fb.setOrigin(fb.getOrigin() + offset);
+		d.setFrames(d.getFrameOffsetA(), fb);
+	}
+}
+}  // namespace
+
+TEST(StabilizerStock, LimitsAndFramesChangedBetweenStepsAreHeldFromTheNextStep)
+{
+	// The stabilizer keeps a hinge's shape while its island stands and reads its limits and frames every step: a
+	// chain of each kind swings for 0.5 s, then every limited joint's limit becomes [0.3, 0.5] rad (the joints are
+	// below it then) and the last joint's frame in B moves by 1 cm, through the joints'
+	// own API. From the
+	// next step on every joint is within the targets of its new limit and frames, with the islands kept (read, not
+	// rebuilt); without the stabilizer the solver leaves the joints past their new stops by more than 10 × the target.
+	for (const Kind& kind : kinds())
+	{
+		if (!(kind.name == "stock" || kind.name == "6dof2 order 0 axis 0" || kind.name == "6dof2 order 5 axis 1" ||
+			  kind.name == "6dof axis 2"))
+			continue;
+		double separation, misalignment, overshoot;
+		auto change = [&](KindChain& chain) {
+			for (size_t j = 1; j < chain.joints.size(); j += 2)
+				setHingeLimit(*chain.joints[j], kind.axis, btScalar(0.3), btScalar(0.5));
+			shiftFrameB(*chain.joints.back(), btVector3(btScalar(0.01), 0, 0));
+		};
+		{
+			KindChain bare(kind, 6);
+			bare.run(30, separation, misalignment, overshoot);
+			change(bare);
+			bare.run(1, separation, misalignment, overshoot);
+			EXPECT_GT(overshoot, 10 * kHeldOvershoot) << kind.name;
+		}
+		KindChain chain(kind, 6);
+		btQuaternionHingeStabilizer stabilizer;
+		chain.scene.addAction(&stabilizer);
+		chain.run(30, separation, misalignment, overshoot);
+		change(chain);
+		for (int s = 0; s < 30; ++s)
+		{
+			chain.run(1, separation, misalignment, overshoot);
+			EXPECT_FALSE(stabilizer.getLastStats().structureRebuilt) << kind.name;
+			EXPECT_LE(separation, kDouble ? kSeparationTolerance : kHeldSeparation) << kind.name << " step " << s;
+			EXPECT_LE(misalignment, kHeldMisalignment) << kind.name << " step " << s;
+			EXPECT_LE(overshoot, kHeldOvershoot) << kind.name << " step " << s;
+		}
+		// a 6dof2's rotation order (its angle's meaning: its sign) is part of its shape: the island is built again
+		if (kind.name.rfind("6dof2", 0) == 0)
+		{
+			for (btTypedConstraint* c : chain.joints)
+				static_cast<btGeneric6DofSpring2Constraint*>(c)->setRotationOrder(kind.name == "6dof2 order 0 axis 0" ? RO_ZYX
+																													  : RO_XYZ);
+			chain.run(1, separation, misalignment, overshoot);
+			EXPECT_TRUE(stabilizer.getLastStats().structureRebuilt) << kind.name;
+			for (int s = 0; s < 10; ++s)
+			{
+				chain.run(1, separation, misalignment, overshoot);
+				EXPECT_LE(overshoot, kHeldOvershoot) << kind.name << " new order, step " << s;
+			}
+		}
+		chain.scene.world().removeAction(&stabilizer);
+	}
+}
+
+namespace
+{
 // A mixed world: a stock hinge with a limit and its motor, a 6dof2 hinge about x with a motor, an old 6-dof hinge,
 // a quaternion hinge and a point-to-point, in one chain from the world.
 struct MixedChain

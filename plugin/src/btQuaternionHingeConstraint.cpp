@@ -266,6 +266,18 @@ inline void rotationToQuaternion(const btMatrix3x3& m, btQuaternion& q)
 	else
 		m.getRotation(q);
 }
+
+// q of the joint frames (framePoseAt's): frame A's axes (rows of R_Aᵀ, from body A's basis by columns) into axesA,
+// then R_Aᵀ R_B.
+inline void frameRotation(const Lanes& a0, const Lanes& a1, const Lanes& a2, const btTransform& frameInA,
+						  const btTransform& transB, const btTransform& frameInB, btMatrix3x3& axesA, btQuaternion& q)
+{
+	productTransposedRows(a0, a1, a2, frameInA.getBasis(), axesA);
+	btMatrix3x3 basisB, relative;
+	multiplyRows(transB.getBasis(), frameInB.getBasis(), basisB);
+	multiplyRows(axesA, basisB, relative);  // R_Aᵀ R_B
+	rotationToQuaternion(relative, q);
+}
 }  // namespace
 
 void btQuaternionHingeConstraint::poseAt(const btTransform& transA, const btTransform& transB, Pose& pose) const
@@ -280,16 +292,24 @@ void btQuaternionHingeConstraint::framePoseAt(const btTransform& frameInA, const
 	// MatrixLanes.h). Body A's basis by columns serves both R_Aᵀ and the pivot, body B's the pivot.
 	const Lanes a0 = columnLanes(transA.getBasis(), 0), a1 = columnLanes(transA.getBasis(), 1),
 				a2 = columnLanes(transA.getBasis(), 2);
-	productTransposedRows(a0, a1, a2, frameInA.getBasis(), pose.axesA);
+	frameRotation(a0, a1, a2, frameInA, transB, frameInB, pose.axesA, pose.q);
 	storeLanes(pose.pivotA, transformedLanes(a0, a1, a2, transA.getOrigin(), frameInA.getOrigin()));
 	storeLanes(pose.pivotB, transformedLanes(columnLanes(transB.getBasis(), 0), columnLanes(transB.getBasis(), 1),
 											 columnLanes(transB.getBasis(), 2), transB.getOrigin(),
 											 frameInB.getOrigin()));
-	btMatrix3x3 basisB, relative;
-	multiplyRows(transB.getBasis(), frameInB.getBasis(), basisB);
-	multiplyRows(pose.axesA, basisB, relative);  // R_Aᵀ R_B
-	rotationToQuaternion(relative, pose.q);
 	pose.axialKnown = false;
+}
+
+btScalar btQuaternionHingeConstraint::computeFrameAngle(const btTransform& frameInA, const btTransform& frameInB,
+														const btTransform& transA, const btTransform& transB)
+{
+	// framePoseAt's q without the pivots; frameAngleRowAt's angle with σ = 1 from 0 is continueAngle(0, θ) = θ, as
+	// hingeAngle's θ is in (−π, π] already
+	btMatrix3x3 axesA;
+	btQuaternion q;
+	frameRotation(columnLanes(transA.getBasis(), 0), columnLanes(transA.getBasis(), 1),
+				  columnLanes(transA.getBasis(), 2), frameInA, transB, frameInB, axesA, q);
+	return hingeAngle(q);
 }
 
 void btQuaternionHingeConstraint::initFrames(const btTransform& frameA, const btTransform& frameB,

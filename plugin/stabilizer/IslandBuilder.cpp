@@ -58,9 +58,10 @@ int scanWorld(btDynamicsWorld& world, const ScanKinds& kinds, const btQuaternion
 		if (!c->isEnabled()) continue;
 		// a stock or 6-dof hinge first (a 6-dof hinge is a hinge, not a point constraint); its limit's ability to act
 		bool frameLimit = false;
+		unsigned frameShape = 0;
 		const FrameHingeKind frameKind =
 			hinge ? FrameHingeKind::None
-				  : readFrameHinge(*c, kinds.stockHinges, kinds.dofHinges, nullptr, &frameLimit);
+				  : readFrameHinge(*c, kinds.stockHinges, kinds.dofHinges, nullptr, &frameLimit, &frameShape);
 		const bool frame = frameKind != FrameHingeKind::None;
 		// a 6-dof's locks, read once for both options (and not at all with both off)
 		const DofLocks locks = !hinge && !frame && (projectPoints || projectLocked) ? dofLocks(*c) : DofLocks();
@@ -88,7 +89,7 @@ int scanWorld(btDynamicsWorld& world, const ScanKinds& kinds, const btQuaternion
 		}
 		if (frame)
 		{
-			if (frameKind == FrameHingeKind::Dof) e.flags |= SignatureEntry::kDofHinge;
+			if (frameKind == FrameHingeKind::Dof) e.flags |= SignatureEntry::kDofHinge | frameShape * SignatureEntry::kDofShape0;
 			else if (static_cast<btHingeConstraint*>(c)->getAngularOnly()) e.flags |= SignatureEntry::kAngularOnly;
 			if (projectLimits && frameLimit) e.flags |= SignatureEntry::kLimitSlot;
 			out.push_back(e);
@@ -287,6 +288,8 @@ std::unique_ptr<Island> buildOne(const Array<SignatureEntry>& entries, bool forc
 		slot.locked = e.locked;
 		slot.frameHinge = e.frameHinge;
 		slot.dofHinge = (e.flags & SignatureEntry::kDofHinge) != 0;
+		// a 6-dof's shape, kept while the island stands (its frames and limits: refreshFrameHinge, every step)
+		if (slot.dofHinge) setDofHingeShape((e.flags / SignatureEntry::kDofShape0) & 31, slot.hinge);
 		slot.contact = -1;
 		slot.rigid[0] = e.body[0];
 		slot.rigid[1] = e.body[1];

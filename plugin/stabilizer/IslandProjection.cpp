@@ -382,8 +382,9 @@ void readAngleReferences(Island& island)
 	{
 		if (js.frameHinge)
 		{
-			// its frames and limit as they are now (the kind and the limit's ability to act are in the signature)
-			readFrameHinge(*js.frameHinge, true, true, &js.hinge);
+			// its frames and limit as they are now (the kind, a 6-dof's shape and the limit's ability to act are in the
+			// signature)
+			refreshFrameHinge(*js.frameHinge, js.hinge);
 			if (!js.limitSlot) continue;
 			const btTransform& tA = js.rigid[0]->getCenterOfMassTransform();
 			js.angleReference = frameHingeLimitVariable(*js.frameHinge, js.hinge, tA, js.rigid[1]->getCenterOfMassTransform());

@@ -60,7 +60,8 @@ struct SignatureEntry
 		kLimitSlot = 8,
 		kContact = 16,      // a contact slot (projectContacts: IslandContacts.h): body[1] null for the fixed partners
 		kLockedAxis0 = 32,  // a locked 6-dof (projectLockedConstraints: LockedRows.h): its locked linear axes, bits 5–7
-		kDofHinge = 256     // frameHinge is a 6-dof set up as a hinge (else a stock hinge: StockHingeRows.h)
+		kDofHinge = 256,    // frameHinge is a 6-dof set up as a hinge (else a stock hinge: StockHingeRows.h)
+		kDofShape0 = 512    // … its shape (readFrameHinge: free axis, rotation order), bits 9–13
 	};
 	btQuaternionHingeConstraint* joint;       // a quaternion hinge, or null for a point constraint
 	btTypedConstraint* point;                 // a point constraint (projectPointConstraints: PointRows.h), or null

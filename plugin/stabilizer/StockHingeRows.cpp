@@ -83,7 +83,7 @@ btScalar eulerSign(int order, int axis)
 	return euler[axis] < 0 ? btScalar(-1) : btScalar(1);
 }
 
-// eulerSign for every order and axis, computed once (read every step for every 6-dof hinge).
+// eulerSign for every order and axis, computed once (read whenever a 6-dof hinge's island is built).
 btScalar dofAngleSign(int order, int axis)
 {
 	struct Table
@@ -99,103 +99,135 @@ btScalar dofAngleSign(int order, int axis)
 	return table.sign[order >= RO_XYZ && order <= RO_ZYX ? order : RO_XYZ][axis];
 }
 
-struct DofLimits
+// The 6-dof's members this reads, through its public accessors (the limits' getters copy into vectors and are not
+// const; the motors are its own members): the same for both classes, which share no base with them.
+template <typename Dof>
+struct DofView
 {
-	btTransform frameA, frameB;
-	btVector3 linearLow, linearHigh, angularLow, angularHigh;
-	int order;
+	Dof& dof;
+	const btTransform& frameA() const { return dof.getFrameOffsetA(); }
+	const btTransform& frameB() const { return dof.getFrameOffsetB(); }
+	const btVector3& linearLow() const { return dof.getTranslationalLimitMotor()->m_lowerLimit; }
+	const btVector3& linearHigh() const { return dof.getTranslationalLimitMotor()->m_upperLimit; }
+	btScalar angularLow(int i) const { return dof.getRotationalLimitMotor(i)->m_loLimit; }
+	btScalar angularHigh(int i) const { return dof.getRotationalLimitMotor(i)->m_hiLimit; }
 };
 
-bool readDof(const btTypedConstraint& c, FrameHinge* out, bool* limit)
+// lo > hi: free; [−π, π] (the 6-dof wraps its limits into it) holds every wrapped angle
+inline bool dofLimitActs(btScalar lo, btScalar hi) { return lo < hi && (lo > -SIMD_PI || hi < SIMD_PI); }
+
+// The free axis of a 6-dof set up as a hinge (three linear axes locked, low == high, Bullet's convention; one
+// angular axis not locked, the others locked at 0), or −1.
+template <typename View>
+int dofFreeAxis(const View& d)
 {
-	DofLimits d;
-	if (c.getConstraintType() == D6_SPRING_2_CONSTRAINT_TYPE)
-	{
-		// (its getters of the limits are not const)
-		auto& dof = const_cast<btGeneric6DofSpring2Constraint&>(static_cast<const btGeneric6DofSpring2Constraint&>(c));
-		dof.getLinearLowerLimit(d.linearLow);
-		dof.getLinearUpperLimit(d.linearHigh);
-		dof.getAngularLowerLimit(d.angularLow);
-		dof.getAngularUpperLimit(d.angularHigh);
-		d.order = dof.getRotationOrder();
-		if (out)
-		{
-			d.frameA = dof.getFrameOffsetA();
-			d.frameB = dof.getFrameOffsetB();
-		}
-	}
-	else  // btGeneric6DofConstraint and btGeneric6DofSpringConstraint: Euler XYZ
-	{
-		const auto& dof = static_cast<const btGeneric6DofConstraint&>(c);
-		dof.getLinearLowerLimit(d.linearLow);
-		dof.getLinearUpperLimit(d.linearHigh);
-		dof.getAngularLowerLimit(d.angularLow);
-		dof.getAngularUpperLimit(d.angularHigh);
-		d.order = RO_XYZ;
-		if (out)
-		{
-			d.frameA = dof.getFrameOffsetA();
-			d.frameB = dof.getFrameOffsetB();
-		}
-	}
-	// three linear axes locked (low == high, Bullet's convention), one angular axis not locked, the others locked at 0
 	int free = -1;
 	for (int i = 0; i < 3; ++i)
 	{
-		if (d.linearLow[i] != d.linearHigh[i]) return false;
-		if (d.angularLow[i] == d.angularHigh[i])
+		if (d.linearLow()[i] != d.linearHigh()[i]) return -1;
+		const btScalar lo = d.angularLow(i), hi = d.angularHigh(i);
+		if (lo == hi)
 		{
-			if (d.angularLow[i] != 0) return false;
+			if (lo != 0) return -1;
 			continue;
 		}
-		if (free >= 0) return false;
+		if (free >= 0) return -1;
 		free = i;
 	}
-	if (free < 0) return false;
-	const btScalar lo = d.angularLow[free], hi = d.angularHigh[free];
-	// lo > hi: free; [−π, π] (the 6-dof wraps its limits into it) holds every wrapped angle
-	const bool acts = lo < hi && (lo > -SIMD_PI || hi < SIMD_PI);
-	if (limit) *limit = acts;
-	if (!out) return true;
-	// ẑ onto the free axis: a cyclic turn of the axes (x̂, ŷ, ẑ) ← the free axis's successors, then it
-	btMatrix3x3 turn;
-	turn.setIdentity();
-	if (free != 2)
-	{
-		const int next = (free + 1) % 3, last = (free + 2) % 3;
-		for (int r = 0; r < 3; ++r)
-		{
-			turn[r][0] = r == next ? 1 : 0;
-			turn[r][1] = r == last ? 1 : 0;
-			turn[r][2] = r == free ? 1 : 0;
-		}
-	}
+	return free;
+}
+
+// What can change between steps without changing the hinge's shape: the frames (ẑ turned onto the free axis) and
+// the free axis's limits.
+template <typename View>
+void readDofFrames(const View& d, FrameHinge& out)
+{
+	const int free = out.dofAxis;
+	const btTransform& a = d.frameA();
+	const btTransform& b = d.frameB();
 	// frame A's origin moved by the locked values along its axes: the pivot of A (PointRows.h, pointPivots)
-	out->frameA.setOrigin(d.frameA * d.linearLow);
-	out->frameA.setBasis(d.frameA.getBasis() * turn);
-	out->frameB.setOrigin(d.frameB.getOrigin());
-	out->frameB.setBasis(d.frameB.getBasis() * turn);
-	out->angularOnly = false;
-	out->sign = dofAngleSign(d.order, free);
-	out->limit = acts;
-	out->adjustToLimits = true;
-	out->center = 0;
-	out->low = lo;
-	out->high = hi;
+	out.frameA.setOrigin(a * d.linearLow());
+	out.frameB.setOrigin(b.getOrigin());
+	// ẑ onto the free axis: a cyclic turn of the axes (x̂, ŷ, ẑ) ← the free axis's successors, then it (columns)
+	static const int kNext[3] = {1, 2, 0};
+	const int next = kNext[free], last = kNext[next];
+	const btMatrix3x3& ba = a.getBasis();
+	const btMatrix3x3& bb = b.getBasis();
+	out.frameA.getBasis().setValue(ba[0][next], ba[0][last], ba[0][free], ba[1][next], ba[1][last], ba[1][free],
+								   ba[2][next], ba[2][last], ba[2][free]);
+	out.frameB.getBasis().setValue(bb[0][next], bb[0][last], bb[0][free], bb[1][next], bb[1][last], bb[1][free],
+								   bb[2][next], bb[2][last], bb[2][free]);
+	const btScalar lo = d.angularLow(free), hi = d.angularHigh(free);
+	out.limit = dofLimitActs(lo, hi);
+	out.low = lo;
+	out.high = hi;
+}
+
+// The 6-dof's kind with its shape; with `out`, all of the FrameHinge.
+template <typename View>
+bool readDof(const View& d, int order, FrameHinge* out, bool* limit, unsigned* shape)
+{
+	const int free = dofFreeAxis(d);
+	if (free < 0) return false;
+	if (limit) *limit = dofLimitActs(d.angularLow(free), d.angularHigh(free));
+	const unsigned kept = unsigned(free) | unsigned(order) << 2;
+	if (shape) *shape = kept;
+	if (!out) return true;
+	setDofHingeShape(kept, *out);
+	readDofFrames(d, *out);
 	return true;
+}
+
+template <typename Dof>
+DofView<Dof> viewOf(const btTypedConstraint& c)
+{
+	// (its accessors of the limit motors are not const; nothing is written through them)
+	return DofView<Dof>{const_cast<Dof&>(static_cast<const Dof&>(c))};
 }
 }  // namespace
 
 FrameHingeKind readFrameHinge(const btTypedConstraint& c, bool stockHinges, bool dofHinges, FrameHinge* out,
-							  bool* limit)
+							  bool* limit, unsigned* shape)
 {
 	const int type = c.getConstraintType();
 	if (type == HINGE_CONSTRAINT_TYPE)
+	{
+		if (shape) *shape = 0;
 		return stockHinges && readStock(static_cast<const btHingeConstraint&>(c), out, limit) ? FrameHingeKind::Stock
 																							  : FrameHingeKind::None;
-	if (type == D6_SPRING_2_CONSTRAINT_TYPE || type == D6_CONSTRAINT_TYPE || type == D6_SPRING_CONSTRAINT_TYPE)
-		return dofHinges && readDof(c, out, limit) ? FrameHingeKind::Dof : FrameHingeKind::None;
+	}
+	if (!dofHinges) return FrameHingeKind::None;
+	if (type == D6_SPRING_2_CONSTRAINT_TYPE)
+	{
+		const auto d = viewOf<btGeneric6DofSpring2Constraint>(c);
+		return readDof(d, d.dof.getRotationOrder(), out, limit, shape) ? FrameHingeKind::Dof : FrameHingeKind::None;
+	}
+	if (type == D6_CONSTRAINT_TYPE || type == D6_SPRING_CONSTRAINT_TYPE)  // Euler XYZ
+		return readDof(viewOf<btGeneric6DofConstraint>(c), RO_XYZ, out, limit, shape) ? FrameHingeKind::Dof
+																					  : FrameHingeKind::None;
 	return FrameHingeKind::None;
+}
+
+void setDofHingeShape(unsigned shape, FrameHinge& hinge)
+{
+	hinge.dofAxis = int(shape & 3);
+	hinge.sign = dofAngleSign(int(shape >> 2), hinge.dofAxis);
+	hinge.angularOnly = false;
+	hinge.adjustToLimits = true;
+	hinge.center = 0;
+}
+
+void refreshFrameHinge(const btTypedConstraint& c, FrameHinge& hinge)
+{
+	if (!hinge.adjustToLimits)
+	{
+		readStock(static_cast<const btHingeConstraint&>(c), &hinge, nullptr);
+		return;
+	}
+	if (c.getConstraintType() == D6_SPRING_2_CONSTRAINT_TYPE)
+		readDofFrames(viewOf<btGeneric6DofSpring2Constraint>(c), hinge);
+	else
+		readDofFrames(viewOf<btGeneric6DofConstraint>(c), hinge);
 }
 
 int frameHingePositionRows(const FrameHinge& hinge, const btTransform& transA, const btTransform& transB, btScalar* C,
@@ -221,11 +253,9 @@ btScalar frameHingeLimitVariable(const btTypedConstraint& c, const FrameHinge& h
 		auto& stock = const_cast<btHingeConstraint&>(static_cast<const btHingeConstraint&>(c));
 		return btNormalizeAngle(stock.getHingeAngle(transA, transB) - hinge.center);
 	}
-	btScalar C[5], jacobian[60], theta;
-	btVector3 gradient;
-	btQuaternionHingeConstraint::computeFramePositionRows(hinge.frameA, hinge.frameB, hinge.angularOnly, transA, transB,
-														  C, jacobian, 0, theta, gradient);
-	// θ ∈ (−π, π] continued from 0: wrapped; on the branch of the nearer stop, as the 6-dof tests it
+	// θ ∈ (−π, π] (the rows' angle continued from 0, without the rows): wrapped; on the branch of the nearer stop, as
+	// the 6-dof tests it
+	const btScalar theta = btQuaternionHingeConstraint::computeFrameAngle(hinge.frameA, hinge.frameB, transA, transB);
 	return btAdjustAngleToLimits(hinge.sign * theta, hinge.low, hinge.high);
 }
 }  // namespace stabilizer

@@ -42,7 +42,7 @@ enum class FrameHingeKind
 	Dof     ///< a 6-dof set up as a hinge
 };
 
-/// A stock or 6-dof hinge as read at a step's start (readFrameHinge).
+/// A stock or 6-dof hinge as read at a step's start (readFrameHinge, refreshFrameHinge).
 ATTRIBUTE_ALIGNED16(struct)
 FrameHinge
 {
@@ -52,14 +52,27 @@ FrameHinge
 	btScalar sign = 1;            // the joint's own angle is sign·θ (Q11)
 	bool limit = false;           // a limit that can act (above)
 	bool adjustToLimits = false;  // the step's first v: btAdjustAngleToLimits (6-dof), else wrapped about the centre
+	int dofAxis = 2;              // a 6-dof: its free axis (x, y, z: 0–2)
 	btScalar center = 0;          // c: v = sign·θ − c (0 for a 6-dof)
 	btScalar low = 0, high = 0;   // the stops on v
 };
 
 /// The kind of `c` (None: neither, or not set up as a hinge; kinds not asked for are None), and, when not None, its
-/// frames and limit into `out` (may be null: the kind alone, with the limit's ability to act in `limit`).
+/// frames and limit into `out` (may be null: the kind alone, with the limit's ability to act in `limit`), and its
+/// shape into `shape` (0 for a stock hinge; a 6-dof's free axis, bits 0–1, and its rotation order, bits 2–4).
 FrameHingeKind readFrameHinge(const btTypedConstraint& c, bool stockHinges, bool dofHinges, FrameHinge* out,
-							  bool* limit = nullptr);
+							  bool* limit = nullptr, unsigned* shape = nullptr);
+
+/// A 6-dof hinge's shape (readFrameHinge's) into `hinge`: its free axis and its angle's sign, what its rows keep while
+/// the island stands (the stabilizer's scan keeps the shape in the island's signature, so a 6-dof whose free axis or
+/// rotation order changes is built again).
+void setDofHingeShape(unsigned shape, FrameHinge& hinge);
+
+/// The frames and limit of a hinge read before (readFrameHinge or setDofHingeShape) as they are now: what the
+/// joint's public API can change between steps (a stock hinge's setFrames, setLimit, setAngularOnly; a 6-dof's
+/// frames, its locked linear values and its free axis's limits). Read every step: a few loads and the frame product,
+/// no more than comparing them with a kept copy would take.
+void refreshFrameHinge(const btTypedConstraint& c, FrameHinge& hinge);
 
 /// The hinge's rows at the given transforms (C, J as btQuaternionHingeConstraint::computePositionRows: up to 5 rows
 /// of 12), and its limit variable v continued from previous, with its gradient: v̇ = gradient·(ω_B − ω_A).
@@ -74,7 +87,7 @@ inline int frameHingePositionRows(const FrameHinge& hinge, const btTransform& tr
 }
 
 /// v at the given transforms as the joint `c` tests its limit (wrapped about the centre, or adjusted to the nearer
-/// stop): the step's first.
+/// stop): the step's first. A 6-dof's from its angle alone (btQuaternionHingeConstraint::computeFrameAngle).
 btScalar frameHingeLimitVariable(const btTypedConstraint& c, const FrameHinge& hinge, const btTransform& transA,
 								 const btTransform& transB);
 }  // namespace stabilizer

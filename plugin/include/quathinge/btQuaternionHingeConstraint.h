@@ -343,10 +343,8 @@ public:
 	/// call (setEnabled(true) alone gives no rows while it stands), and a refused frame edit is checked again here:
 	/// while frameInA/frameInB are still not rigid the fault stays BT_QHINGE_FAULT_FRAME_EDITED_INVALID, disabled.
 	void clearFault();
-
 	/// Rows reported by the last getInfo1 (for tests and statistics).
 	int getNumRowsLastStep() const { return m_numRows; }
-
 	/// The joint's bilateral position-level rows at the given body transforms, for post-stabilizers (MATH.md Q13,
 	/// Q14) and tests: the values C (3 linear rows unless angular-only, then the 2 quaternion rows, Q4/Q9 or the
 	/// swing log, Q12) and their Jacobian J = ∂C/∂(v_A, ω_A, v_B, ω_B), row r at jacobian[12 r .. 12 r + 11] in that
@@ -372,7 +370,9 @@ public:
 	/// The same without the angle (a hinge with no limit row: the angle's atan2 saved).
 	static int computeFramePositionRows(const btTransform& frameInA, const btTransform& frameInB, bool angularOnly,
 										const btTransform& transA, const btTransform& transB, btScalar* C, btScalar* jacobian);
-
+	/// θ alone, in (−π, π]: bit for bit the angle above continued from 0, without the rows (a limit's starting angle).
+	static btScalar computeFrameAngle(const btTransform& frameInA, const btTransform& frameInB, const btTransform& transA,
+									  const btTransform& transB);
 	/// Draws the joint: pivot frames, the hinge axis and, with a limit, its arc (within one turn).
 	void debugDraw(btIDebugDraw * drawer, btScalar size = btScalar(0.3)) const;
 
