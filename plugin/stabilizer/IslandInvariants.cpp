@@ -69,6 +69,13 @@ double kineticOf(const btRigidBody& body, double mass)
 	const Eigen::Vector3d v = toEigen(body.getLinearVelocity()), w = toEigen(body.getAngularVelocity());
 	return 0.5 * (mass * v.squaredNorm() + w.dot(inertiaOf(body) * w));
 }
+// A body's angular momentum about `centre` (Q17's L, one body's share): r × m v + I ω, with r its centre of mass's
+// offset from `centre` and I its world inertia (inertiaOf).
+Eigen::Vector3d angularMomentumOf(const btRigidBody& body, double mass, const Eigen::Matrix3d& inertia,
+								  const Eigen::Vector3d& r)
+{
+	return mass * r.cross(toEigen(body.getLinearVelocity())) + inertia * toEigen(body.getAngularVelocity());
+}
 void setVelocities(btRigidBody& body, const btVector3& v, const btVector3& w)
 {
 	body.setLinearVelocity(v);
@@ -181,8 +188,7 @@ void recordInvariants(Island& island)
 	inv.angular.setZero();  // L about the centre of mass (Q17), a free island's
 	if (inv.free)
 		for (const IslandBody& b : island.bodies)
-			inv.angular += massOf(*b.rigid) * (toEigen(b.startPosition) - centre).cross(toEigen(b.rigid->getLinearVelocity())) +
-						   inertiaOf(*b.rigid) * toEigen(b.rigid->getAngularVelocity());
+			inv.angular += angularMomentumOf(*b.rigid, massOf(*b.rigid), inertiaOf(*b.rigid), toEigen(b.startPosition) - centre);
 	if (inv.scale == 0)  // the island's energy scale: Σ m max(|g|, 1 m/s²)(1 m + 2|x − x̄|), plus its kinetic energy
 	{
 		for (const IslandBody& b : island.bodies)
@@ -250,7 +256,7 @@ InvariantResult restoreInvariants(Island& island, ProjectionResult& result, doub
 			const Eigen::Vector3d r = toEigen(body.getCenterOfMassPosition()) - centre;
 			const Eigen::Matrix3d inertia = inertiaOf(body);
 			lock += inertia + m * (r.squaredNorm() * Eigen::Matrix3d::Identity() - r * r.transpose());
-			angular += m * r.cross(toEigen(body.getLinearVelocity())) + inertia * toEigen(body.getAngularVelocity());
+			angular += angularMomentumOf(body, m, inertia, r);
 		}
 		const Eigen::LDLT<Eigen::Matrix3d> lockInverse(lock);
 		const Eigen::Vector3d velocityNow = momentum / mass, spinNow = lockInverse.solve(angular);

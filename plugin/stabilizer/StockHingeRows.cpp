@@ -219,12 +219,10 @@ void setDofHingeShape(unsigned shape, FrameHinge& hinge)
 
 void refreshFrameHinge(const btTypedConstraint& c, FrameHinge& hinge)
 {
-	if (!hinge.adjustToLimits)
-	{
+	const int type = c.getConstraintType();
+	if (type == HINGE_CONSTRAINT_TYPE)
 		readStock(static_cast<const btHingeConstraint&>(c), &hinge, nullptr);
-		return;
-	}
-	if (c.getConstraintType() == D6_SPRING_2_CONSTRAINT_TYPE)
+	else if (type == D6_SPRING_2_CONSTRAINT_TYPE)
 		readDofFrames(viewOf<btGeneric6DofSpring2Constraint>(c), hinge);
 	else
 		readDofFrames(viewOf<btGeneric6DofConstraint>(c), hinge);
