@@ -176,6 +176,15 @@ void setHingeLimit(btTypedConstraint& c, int axis, btScalar lo, btScalar hi)
 	}
 }
 
+// Moves a 6-dof's frame in B by `offset` (in B's frame) through setFrames.
+template <typename Dof>
+void shiftDofFrameB(Dof& d, const btVector3& offset)
+{
+	btTransform fb = d.getFrameOffsetB();
+	fb.setOrigin(fb.getOrigin() + offset);
+	d.setFrames(d.getFrameOffsetA(), fb);
+}
+
 // Moves a hinge's frame in B by `offset` (in B's frame) through its public API (setFrames).
 void shiftFrameB(btTypedConstraint& c, const btVector3& offset)
 {
@@ -187,19 +196,9 @@ void shiftFrameB(btTypedConstraint& c, const btVector3& offset)
 		h.setFrames(h.getAFrame(), fb);
 	}
 	else if (c.getConstraintType() == D6_SPRING_2_CONSTRAINT_TYPE)
-	{
-		auto& d = static_cast<btGeneric6DofSpring2Constraint&>(c);
-		btTransform fb = d.getFrameOffsetB();
-		fb.setOrigin(fb.getOrigin() + offset);
-		d.setFrames(d.getFrameOffsetA(), fb);
-	}
+		shiftDofFrameB(static_cast<btGeneric6DofSpring2Constraint&>(c), offset);
 	else
-	{
-		auto& d = static_cast<btGeneric6DofConstraint&>(c);
-		btTransform fb = d.getFrameOffsetB();
-		fb.setOrigin(fb.getOrigin() + offset);
-		d.setFrames(d.getFrameOffsetA(), fb);
-	}
+		shiftDofFrameB(static_cast<btGeneric6DofConstraint&>(c), offset);
 }
 }  // namespace
 
@@ -207,10 +206,9 @@ TEST(StabilizerStock, LimitsAndFramesChangedBetweenStepsAreHeldFromTheNextStep)
 {
 	// The stabilizer keeps a hinge's shape while its island stands and reads its limits and frames every step: a
 	// chain of each kind swings for 0.5 s, then every limited joint's limit becomes [0.3, 0.5] rad (the joints are
-	// below it then) and the last joint's frame in B moves by 1 cm, through the joints'
-	// own API. From the
-	// next step on every joint is within the targets of its new limit and frames, with the islands kept (read, not
-	// rebuilt); without the stabilizer the solver leaves the joints past their new stops by more than 10 × the target.
+	// below it then) and the last joint's frame in B moves by 1 cm, through the joints' own API. From the next step
+	// on every joint is within the targets of its new limit and frames, with the islands kept (read, not rebuilt);
+	// without the stabilizer the solver leaves the joints past their new stops by more than 10 × the target.
 	for (const Kind& kind : kinds())
 	{
 		if (!(kind.name == "stock" || kind.name == "6dof2 order 0 axis 0" || kind.name == "6dof2 order 5 axis 1" ||
