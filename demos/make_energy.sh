@@ -13,7 +13,8 @@ if [ ! -x "$compare" ]; then
   cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=Release >/dev/null
   cmake --build "$build" -j2 --target quathinge-compare
 fi
-out=demos/out/energy
+docs=${QUATHINGE_DOCS_DIR:-docs}   # the pages written (demos/check_generated.sh: a temporary copy)
+out=${QUATHINGE_OUT_DIR:-demos/out}/energy
 mkdir -p "$out"
 models=${QUATHINGE_MODELS_DIR:-demos/models}
 scenes=(pendulum double_pendulum four_bar pendulum5 chain10 chain30 rotor100 heavy100 heavy1000 heavy10000)
@@ -23,4 +24,4 @@ $compare --models "$models" -s "${scenes[@]}" -k "${kinds[@]}" --no-reference -d
 $compare --models "$models" -s pendulum -k "${kinds[@]}" --no-reference -d 60 --series -o "$out/series60" >/dev/null
 $compare --models "$models" -s pendulum -k "${kinds[@]}" --no-reference -d 60 --dt 0.00416667 --series \
   -o "$out/series240" >/dev/null
-/usr/bin/python3 demos/energy_report.py --out "$out" --image docs/images/energy_60s.png --readme docs/RESULTS.md
+/usr/bin/python3 demos/energy_report.py --out "$out" --image "$docs/images/energy_60s.png" --readme "$docs/RESULTS.md"
