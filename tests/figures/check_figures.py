@@ -41,7 +41,7 @@ def pages(src):
 
 def value(text):
     """A printed number and half a unit of its last digit."""
-    text = text.strip().replace("−", "-")
+    text = re.sub(r"\s*[×%°k]$", "", text.strip().replace("−", "-"))  # a cell's unit ("1.016 ×", "365.9 k")
     m = re.fullmatch(r"[-+]?(\d+)(?:\.(\d+))?(?:e([-+]?\d+))?", text)
     if not m:
         return None
