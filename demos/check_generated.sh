@@ -33,5 +33,5 @@ $compare --models "$models" -s $scenes_table --reference-exe "$reference_build/d
   --markdown "$tmp/out/results.md" --readme "$tmp/docs/RESULTS.md" --front "$tmp/README.md" --note "-" >/dev/null
 QUATHINGE_BUILD_DIR=$build QUATHINGE_DOCS_DIR=$tmp/docs QUATHINGE_OUT_DIR=$tmp/out bash demos/make_energy.sh >/dev/null
 QUATHINGE_BUILD_DIR=$build QUATHINGE_DOCS_DIR=$tmp/docs QUATHINGE_OUT_DIR=$tmp/out bash demos/make_joints.sh >/dev/null
-/usr/bin/python3 demos/compare_sections.py . "$tmp" results glance energy stabilized-joints picture
+/usr/bin/python3 demos/compare_sections.py . "$tmp" results glance energy energy-damping stabilized-joints picture
 echo "check_generated: passed in $(( $(date +%s) - start )) s"
