@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Regenerates the deterministic generated sections into a temporary copy of README.md and docs/ and fails on any
 # difference from the committed ones (CI: cmake/ci-fresh-debian.sh runs it in the fresh root after README's commands):
-#   bash demos/check_generated.sh        (30 s to 2 min on two cores, after the float and double builds)
+#   bash demos/check_generated.sh        (30 s idle to 2.5 min busy on two cores, after the float and double builds)
 # Sections: results (docs/RESULTS.md, every column but the run time, from the same runs as make_report.sh's table,
 # references from the double build), glance (README.md), energy (docs/RESULTS.md), stabilized-joints
 # (docs/STABILIZED_JOINTS.md) and picture (docs/RESULTS.md). Not checked: the timed columns and tables (CPU ms /
