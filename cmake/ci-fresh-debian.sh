@@ -3,10 +3,12 @@
 # Debian mirror this machine's apt sources name), a clone of the commit copied in, and the commands of README.md's
 # first code block run inside it as root, one after the other, exactly as written there (so README stays true): a
 # package that setup-debian.sh forgets to install fails here instead of on a user's machine.
-#   bash cmake/ci-fresh-debian.sh [CLONE [WORKDIR]]
+#   bash cmake/ci-fresh-debian.sh [CLONE [WORKDIR [COMMAND...]]]
 #     CLONE    a git clone whose checked-out commit is tested (default: this repository); only committed files go in
 #     WORKDIR  where the root is built (default: a new temporary folder); removed at the end unless
 #              QUATHINGE_FRESH_KEEP=1
+#     COMMAND  run in the root after README's commands, in their builds (CI: `bash demos/check_generated.sh`, which
+#              checks the generated figures against README's native float build)
 # Needs root (debootstrap, chroot, mount; through sudo otherwise) and the network to the Debian mirror. proc, sys, dev
 # (+ dev/pts, dev/shm) are mounted into the root and unmounted on exit, whatever happens; processes left running
 # inside the root are ended first.
@@ -25,6 +27,7 @@ step() { echo; echo "=== ci-fresh-debian: $* ($(date -u +%T), +$(( $(date +%s) -
 fail() { echo "ci-fresh-debian: FAILED: $*" >&2; exit 1; }
 
 # The commands: README.md's first code block, comments and blank lines dropped.
+after=("${@:3}")
 mapfile -t commands < <(awk '/^```/ { if (inside) exit; inside = 1; next } inside' "$clone/README.md" |
                           sed -e 's/[[:space:]]*#.*$//' -e '/^[[:space:]]*$/d')
 [ ${#commands[@]} -gt 0 ] || fail "no commands in README.md's first code block"
@@ -98,3 +101,11 @@ for command in "${commands[@]}"; do
   echo "ci-fresh-debian: '$command' passed in $(( $(date +%s) - t0 )) s"
 done
 step "all README commands passed in a fresh Debian 12 root"
+for command in ${after[@]+"${after[@]}"}; do
+  step "in the fresh root, after README's commands: $command"
+  t0=$(date +%s)
+  chroot "$root" /usr/bin/env -i HOME=/root LANG=C.UTF-8 TERM=dumb \
+    PATH=/usr/local/sbin:/usr/local/bin:/usr/sbin:/usr/bin:/sbin:/bin \
+    /bin/bash -c "cd /root/QuatHinge && $command" || fail "'$command' in the fresh root"
+  echo "ci-fresh-debian: '$command' passed in $(( $(date +%s) - t0 )) s"
+done

@@ -2,7 +2,9 @@
 # Regenerates every figure and the results table of docs/RESULTS.md from fresh runs:
 #   bash demos/make_report.sh        (about a minute of runs on two cores, after the float and double builds)
 # Uses Debian's own /usr/bin/python3 (python3-matplotlib). Writes the plots to docs/images/, the table to
-# docs/images/results.md and into docs/RESULTS.md (between the results markers), the raw CSV/JSON to demos/out/report/.
+# docs/images/results.md and into docs/RESULTS.md (between the results markers) and README.md's glance table (the
+# glance markers), the energy table (make_energy.sh), the stabilized-joints and picture tables (make_joints.sh), the
+# raw CSV/JSON to demos/out/. demos/check_generated.sh regenerates the deterministic columns and compares.
 # QUATHINGE_BUILD_DIR picks the build directory (default build/); QUATHINGE_MODELS_DIR the models (default demos/models).
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -35,6 +37,9 @@ $(date -u +%Y-%m-%d); 60 Hz, 10 iterations, Bullet $(pkg-config --modversion bul
 thread CPU time; blow-up: the first step with a non-finite state, a body beyond 1e3 m or faster than 1e4 m/s, or energy \
 above its start by more than 10× the energy scale (a runaway). Full data: \`$out/\`."
 /usr/bin/python3 demos/plot_report.py --sweep "$out/sweep/results.json" --series "$out/series/results.json" \
-  --table "$out/table/results.json" --images docs/images --markdown docs/images/results.md --readme docs/RESULTS.md --note "$note"
+  --table "$out/table/results.json" --images docs/images --markdown docs/images/results.md --readme docs/RESULTS.md --front README.md \
+  --note "$note"
 # 4. energy: stock, bare and stabilized at 60 and 240 Hz (docs/RESULTS.md, the energy markers; docs/images/energy_60s.png)
 QUATHINGE_BUILD_DIR=$build bash demos/make_energy.sh
+# 5. the stabilized joints (docs/STABILIZED_JOINTS.md) and the front page's picture (docs/RESULTS.md, the picture markers)
+QUATHINGE_BUILD_DIR=$build bash demos/make_joints.sh

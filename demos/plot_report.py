@@ -137,6 +137,35 @@ def table(runs):
     return "\n".join(lines)
 
 
+GLANCE = [("chain30", "chain30 (30 links)"), ("heavy1000", "heavy1000 (1:1000 load)"), ("ragdoll", "ragdoll"),
+          ("panda", "panda (robot arm)")]
+GLANCE_KINDS = [("stock", "stock"), ("quaternion", "quaternion"), ("quaternion+stab", "quaternion + stabilizer"),
+                ("stock+stab", "stock + stabilizer"), ("multibody", "btMultiBody (damping 0)")]
+
+
+def glance(runs):
+    """The front page's table (README.md, the glance markers): a few scenes' largest separation per kind, and the
+    flipped start's recovery time, from the same runs as the results table."""
+    at = {(r["scene"], r["kind"]): r for r in runs}
+    lines = ["| scene | " + " | ".join(label for _, label in GLANCE_KINDS) + " |", "|" + "---|" * (1 + len(GLANCE_KINDS))]
+    for scene, label in GLANCE:
+        cells = []
+        for kind, _ in GLANCE_KINDS:
+            r = at.get((scene, kind))
+            if r is None:
+                cells.append("–")
+                continue
+            cell = fmt(r["max_separation_m"], ".2g")
+            if r["blew_up"]:
+                cell += f", blows up at {r['blow_up_time_s']:.2g} s"
+            cells.append(cell)
+        lines.append(f"| {label} | " + " | ".join(cells) + " |")
+    cells = [fmt(at[("flipped180", k)]["recovery_time_s"], ".2g") if ("flipped180", k) in at else "–"
+             for k, _ in GLANCE_KINDS]
+    lines.append("| flipped180, recovery (s) | " + " | ".join(cells) + " |")
+    return "\n".join(lines)
+
+
 def main():
     p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("--sweep", help="quathinge-compare JSON of a --sweep-dt/--sweep-iterations run")
@@ -145,6 +174,7 @@ def main():
     p.add_argument("--images", default="demos/out", help="directory for the PNGs (default demos/out)")
     p.add_argument("--markdown", default="demos/out/results.md", help="the results table as Markdown")
     p.add_argument("--readme", help="manual page to write the table into, between the results markers (docs/RESULTS.md)")
+    p.add_argument("--front", help="front page to write the glance table into, between the glance markers (README.md)")
     p.add_argument("--note", default="", help="one line said above the table (machine, command)")
     a = p.parse_args()
     os.makedirs(a.images, exist_ok=True)
@@ -166,6 +196,9 @@ def main():
     if a.readme:
         readme_section.replace("results", f"{a.note}\n\n{md}", a.readme)
         wrote.append(a.readme)
+    if a.front:
+        readme_section.replace("glance", glance(load(a.table)), a.front)
+        wrote.append(a.front)
     print("wrote " + ", ".join(wrote))
 
 

@@ -1,6 +1,7 @@
 #!/usr/bin/python3
 """The stabilizer's cost on the hinges an app already has (docs/STABILIZED_JOINTS.md, "What it costs"): instructions
-per step under callgrind for quathinge-bench's step cases, the same harness for every kind.
+per step under callgrind for quathinge-bench's step cases, the same harness for every kind; written into
+docs/STABILIZED_JOINTS.md between the stabilized-cost markers (--page).
 
   /usr/bin/python3 demos/stabilized_cost.py [--bench build/demos/quathinge-bench] [--out demos/out/stabilized_cost]
                                             [--scenes spider kuka_iiwa panda minitaur chain100]
@@ -18,6 +19,9 @@ import os
 import re
 import subprocess
 import sys
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import readme_section  # noqa: E402  (beside this script)
 
 KINDS = ["quaternion", "6dof2", "quaternion+stab", "stock+stab", "6dof2+stab"]
 STEP = "btDiscreteDynamicsWorld::stepSimulation("
@@ -81,6 +85,8 @@ def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--bench", default="build/demos/quathinge-bench")
     parser.add_argument("--out", default="demos/out/stabilized_cost")
+    parser.add_argument("--page", default="docs/STABILIZED_JOINTS.md",
+                        help="manual page whose stabilized-cost section gets the table ('' for none)")
     parser.add_argument("--scenes", nargs="+", default=["spider", "kuka_iiwa", "panda", "minitaur", "chain10", "chain100"])
     args = parser.parse_args()
     os.makedirs(args.out, exist_ok=True)
@@ -102,6 +108,8 @@ def main():
         print(rows[-1], flush=True)
     table = "\n".join(rows) + "\n"
     open(os.path.join(args.out, "stabilized_cost.md"), "w").write(table)
+    if args.page:
+        readme_section.replace("stabilized-cost", table.rstrip("\n"), args.page)
     print(table)
 
 

@@ -32,7 +32,7 @@ MEASURES = [
     ("rms_misalignment_deg", "RMS mis", 0.01),
     ("energy_drift", "energy", 1e-3),
 ]
-# the bound: quaternion within this factor of stock
+# the bound set in bold: quaternion within this factor of stock
 BOUND = 1.2
 GAZEBO_BOUND_RAD = 0.21
 
@@ -175,7 +175,7 @@ def main():
         f"Bare `btQuaternionHingeConstraint` (rows: `{args.basis}`, {args.order}) over stock `btHingeConstraint` in the "
         f"same scene, step and iteration count; each figure is raised to a floor first (separation 1e-5 m, "
         f"misalignment 0.01°, energy drift 1e-3 of the scene's energy scale), so round-off against round-off reads "
-        f"1.00. **Bold**: above the issue's {BOUND} ×. *energy*: conservative scenes only.",
+        f"1.00. **Bold**: above {BOUND} ×. *energy*: conservative scenes only.",
         "",
         f"| scene | max separation, {its} it | RMS separation, {its} it | misalignment (worst, max or RMS) "
         f"| energy drift (worst) |",
