@@ -80,7 +80,7 @@ TEST(StabilizerForces, APushIsKeptAsBulletKeepsItAt1kHz)
 	ForceHooks hooks;
 	hooks.before = [](StabilizerScene&, const std::vector<btRigidBody*>& links, btRigidBody*,
 					  std::vector<btTypedConstraint*>&, double t, double h) {
-		if (t == 0) links.back()->applyCentralImpulse(btVector3(2, 0, 0));  // N·s: a small swing first
+		if (t == 0) links.back()->applyCentralImpulse(btVector3(2, 0, 0));                      // N·s: a small swing first
 		if (std::fabs(t - 1) < 0.5 * h) links.back()->applyCentralImpulse(btVector3(0, 0, 6));  // the push, across
 	};
 	const ForceRecord s = run(chain, hooks, ForceKind::Stabilized, 60, 21);

@@ -25,12 +25,12 @@ struct ForceChain
 {
 	int links = 3;
 	double lastMass = 1;
-	bool hanging = false;      // along −y from the pivot (at rest), else along +x (released horizontally)
-	bool planar = false;       // every axis z, else alternating z and (hanging: x; horizontal: y)
-	bool free = false;         // no anchor, zero gravity
-	bool kinematic = false;    // the anchor is a kinematic body the scene moves
-	double damping = 0;        // linear and angular damping of every link
-	double gravity = 10;       // m/s² along −y
+	bool hanging = false;    // along −y from the pivot (at rest), else along +x (released horizontally)
+	bool planar = false;     // every axis z, else alternating z and (hanging: x; horizontal: y)
+	bool free = false;       // no anchor, zero gravity
+	bool kinematic = false;  // the anchor is a kinematic body the scene moves
+	double damping = 0;      // linear and angular damping of every link
+	double gravity = 10;     // m/s² along −y
 };
 
 /// One run's record: the energy after every step (J; kinetic + gravity's potential above the chain's lowest reach,
