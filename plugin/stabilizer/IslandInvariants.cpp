@@ -32,7 +32,8 @@ const double kTinyKinetic = 1e-12;
 // share of about ½(ωh)² of the spin's angular momentum (5.6e-4 at 2 rad/s and 60 Hz); the cap binds only past ωh ≈ 0.45
 // rad, where Bullet's own step is far from the motion (its per-step rotation clamp, a rotor at 1000 rad/s).
 const double kMaxSpinScalePerStep = 0.1;
-// The guard: the energy's running average (time constant kGuardTime, s) may rise above its lowest value by at most
+// The guard: the running average (time constant kGuardTime, s) of its ledger (the energy the calls left beyond their
+// goal, Invariants::ledger) may rise above its lowest value by at most
 // kGuardGrowth of the island's energy scale while the restoration's own work since then is at least kGuardShare of
 // that rise; past it, an island without a source (a drive, an outside contact, a moving partner) stops restoring.
 const double kGuardTime = 2;
