@@ -32,7 +32,8 @@ const double kTinyKinetic = 1e-12;
 // share of about ½(ωh)² of the spin's angular momentum (5.6e-4 at 2 rad/s and 60 Hz); the cap binds only past ωh ≈ 0.45
 // rad, where Bullet's own step is far from the motion (its per-step rotation clamp, a rotor at 1000 rad/s).
 const double kMaxSpinScalePerStep = 0.1;
-// The guard: the energy's running average (time constant kGuardTime, s) may rise above its lowest value by at most
+// The guard: the running average (time constant kGuardTime, s) of its ledger (the energy the calls left beyond their
+// goal, Invariants::ledger) may rise above its lowest value by at most
 // kGuardGrowth of the island's energy scale while the restoration's own work since then is at least kGuardShare of
 // that rise; past it, an island without a source (a drive, an outside contact, a moving partner) stops restoring.
 const double kGuardTime = 2;
@@ -76,6 +77,25 @@ Eigen::Vector3d angularMomentumOf(const btRigidBody& body, double mass, const Ei
 {
 	return mass * r.cross(toEigen(body.getLinearVelocity())) + inertia * toEigen(body.getAngularVelocity());
 }
+// The power of the step's external force and torque on a body (Q15, W): F·v + τ·ω, with Bullet's accumulated total
+// force and torque (each body's gravity, applyGravity's m g, and everything the app applied for this step; Bullet
+// clears them after the step, after its actions).
+double forcePowerOf(const btRigidBody& body)
+{
+	return double(body.getTotalForce().dot(body.getLinearVelocity())) +
+		   double(body.getTotalTorque().dot(body.getAngularVelocity()));
+}
+// The work of that force and torque on the body's move from its start of the projection (J): F·Δx + τ·Δθ, Δθ the
+// rotation vector of q q₀⁻¹ (small: 2 × its vector part, the short way round).
+double forceWorkOf(const IslandBody& b)
+{
+	const btRigidBody& body = *b.rigid;
+	btQuaternion turn = body.getOrientation() * b.startRotation.inverse();
+	if (turn.w() < 0) turn = -turn;
+	const btVector3 rotation = btScalar(2) * btVector3(turn.x(), turn.y(), turn.z());
+	return double(body.getTotalForce().dot(body.getCenterOfMassPosition() - b.startPosition)) +
+		   double(body.getTotalTorque().dot(rotation));
+}
 void setVelocities(btRigidBody& body, const btVector3& v, const btVector3& w)
 {
 	body.setLinearVelocity(v);
@@ -93,6 +113,29 @@ double highestScale(const Island::Invariants& inv, const ProjectionResult& resul
 	const double kept = inv.kinetic - result.leftoverKinetic;
 	const double cap = 1 + kMaxScalePerStep;
 	return kept > kLeftoverShare * inv.kinetic && kept > kinetic ? cap * std::sqrt(kept / kinetic) : cap;
+}
+
+// A held island's scale (Q19): the s in [lo, hi] whose Ẽ, f(s) = s²T + s·b (T the kinetic energy after the
+// projection, b = ½h Σ F·v' the shadow term), comes closest to the goal; of equally close ones the nearest to 1. f is a
+// parabola: a root in the bounds, else the bound closer in f. Near a turning point of a stiff force (an app spring:
+// |b| > T) the goal can lie below every f(s), and the root of f(s) = 0 away from 0 (s = −b/T) would pump energy in;
+// the closest f takes the lower bound instead, and f's closeness to the goal changes continuously with it.
+double scaleForGoal(double kinetic, double b, double goal, double lo, double hi)
+{
+	auto miss = [&](double s) { return std::fabs(s * s * kinetic + s * b - goal); };
+	double best = 1, bestMiss = SIMD_INFINITY;
+	auto consider = [&](double s) {
+		if (!(s >= lo && s <= hi)) return;
+		const double m = miss(s);
+		if (m < bestMiss || (m == bestMiss && std::fabs(s - 1) < std::fabs(best - 1))) best = s, bestMiss = m;
+	};
+	const double disc = b * b + 4 * kinetic * goal;
+	if (disc >= 0)
+		for (double sign : {1.0, -1.0}) consider((sign * std::sqrt(disc) - b) / (2 * kinetic));
+	consider(lo);
+	consider(hi);
+	consider(std::clamp(-b / (2 * kinetic), lo, hi));  // the vertex: f's closest when the goal is below f's minimum
+	return best;
 }
 
 // The guard's running average of the energy after the step (J), and whether it trips now.
@@ -153,17 +196,18 @@ bool hangsOnMovingBody(const Island& island)
 void recordInvariants(Island& island)
 {
 	Island::Invariants& inv = island.invariants;
-	double kinetic = 0, mass = 0, gravityPower = 0;
+	double kinetic = 0, mass = 0, forcePower = 0;
 	Eigen::Vector3d momentum = Eigen::Vector3d::Zero(), moment = Eigen::Vector3d::Zero();
 	bool free = true, source = false, touching = false;
 	for (IslandBody& b : island.bodies)
 	{
 		const btRigidBody& body = *b.rigid;
 		b.startPosition = body.getCenterOfMassPosition();
+		b.startRotation = body.getOrientation();
 		const double m = massOf(body);
 		const Eigen::Vector3d x = toEigen(b.startPosition), v = toEigen(body.getLinearVelocity());
 		kinetic += kineticOf(body, m);
-		gravityPower += m * toEigen(body.getGravity()).dot(v);
+		forcePower += forcePowerOf(body);
 		mass += m;
 		momentum += m * v;
 		moment += m * x;
@@ -178,7 +222,7 @@ void recordInvariants(Island& island)
 	}
 	if (hangsOnMovingBody(island)) source = true;
 	inv.kinetic = kinetic;
-	inv.gravityPower = gravityPower;
+	inv.forcePower = forcePower;
 	inv.mass = mass;
 	inv.momentum = momentum;
 	inv.free = free && !source && mass > 0;
@@ -204,31 +248,24 @@ InvariantResult restoreInvariants(Island& island, ProjectionResult& result, doub
 	InvariantResult out;
 	if (result.iterations == 0 && result.solves == 0)  // nothing moved: the energy is the recorded one
 	{
-		if (restoreEnergy)
-		{
-			double potential = 0;
-			for (const IslandBody& b : island.bodies)
-				potential -= massOf(*b.rigid) * double(b.rigid->getGravity().dot(b.startPosition));
-			updateGuard(island, inv.kinetic + potential, 0, timeStep);
-		}
+		if (restoreEnergy) updateGuard(island, inv.ledger, 0, timeStep);
 		out.guarded = inv.guarded;
 		return out;
 	}
-	// The potential energy the projection added (Q16) and the state it left (q', v').
-	double lift = 0, potential = 0, kinetic = 0, mass = 0, gravityPower = 0;
+	// The work of the step's forces on the projection's move (Q16: gravity's and the app's, the lift ΔV when only
+	// gravity acts) and the state it left (q', v').
+	double lift = 0, kinetic = 0, mass = 0, forcePower = 0;
 	Eigen::Vector3d momentum = Eigen::Vector3d::Zero(), moment = Eigen::Vector3d::Zero();
 	for (const IslandBody& b : island.bodies)
 	{
 		const btRigidBody& body = *b.rigid;
 		const double m = massOf(body);
-		const btVector3 x = body.getCenterOfMassPosition();
-		lift -= m * double(body.getGravity().dot(x - b.startPosition));
-		potential -= m * double(body.getGravity().dot(x));
+		lift -= forceWorkOf(b);
 		kinetic += kineticOf(body, m);
-		gravityPower += m * toEigen(body.getGravity()).dot(toEigen(body.getLinearVelocity()));
+		forcePower += forcePowerOf(body);
 		mass += m;
 		momentum += m * toEigen(body.getLinearVelocity());
-		moment += m * toEigen(x);
+		moment += m * toEigen(body.getCenterOfMassPosition());
 	}
 	const bool oneSided = result.activeLimitRows > 0 || result.contactRows > 0;  // a stop's or a contact's work
 	// a contact outside the island is Bullet's solver's work (and the stop that lets a ragdoll settle): not restored
@@ -240,9 +277,10 @@ InvariantResult restoreInvariants(Island& island, ProjectionResult& result, doub
 	// the joints along their tangent, and the velocity it leaves across them) needs no term of its own: the position
 	// correction's lift and the velocity stage's loss are both in Ẽ(q', v').
 	const double half = 0.5 * timeStep;
-	const double goal = inv.kinetic + half * inv.gravityPower - lift + 0.5 * result.leftoverLift - result.leftoverKinetic;
-	const double target = goal - half * gravityPower;  // T* (taking Ẽ's term at v')
-	double after = kinetic;                            // the kinetic energy this leaves (J)
+	const double goal = inv.kinetic + half * inv.forcePower - lift + 0.5 * result.leftoverLift - result.leftoverKinetic;
+	const double target = goal - half * forcePower;  // T* (taking Ẽ's term at v')
+	double after = kinetic;                          // the kinetic energy this leaves (J)
+	double afterPower = forcePower;                  // … and the forces' power then (W)
 	if (inv.free)
 	{
 		// (Q17) the island's rigid motion: V = P/M, Ω = I_lock⁻¹ L about the centre of mass, I_lock its locked inertia
@@ -310,19 +348,22 @@ InvariantResult restoreInvariants(Island& island, ProjectionResult& result, doub
 	{
 		// (below the leftover's kinetic energy T_r the goal is the difference of terms larger than T(v'): an arm at
 		// rest, upright, whose fall starts from that noise, is left to the projection)
-		// an island held by a fixed partner: v' scaled as a whole (J v' = 0 is linear in v'), s² T(v') + s ½h Σ m g·v' =
-		// the goal, the root near 1
-		const double b = half * gravityPower, disc = b * b + 4 * kinetic * std::max(goal, 0.0);
-		const double s = std::clamp((std::sqrt(disc) - b) / (2 * kinetic), 1 - kMaxScalePerStep, highestScale(inv, result, kinetic));
+		// an island held by a fixed partner: v' scaled as a whole (J v' = 0 is linear in v'), s² T(v') + s ½h Σ F·v' =
+		// the goal, solved in the bounds (scaleForGoal)
+		const double s = scaleForGoal(kinetic, half * forcePower, goal, 1 - kMaxScalePerStep, highestScale(inv, result, kinetic));
 		const btScalar scale = btScalar(s);
 		for (IslandBody& b : island.bodies)
 			setVelocities(*b.rigid, b.rigid->getLinearVelocity() * scale, b.rigid->getAngularVelocity() * scale);
 		after = s * s * kinetic;
+		afterPower = s * forcePower;
 		out.energyRestored = true;
 		out.scale = s;
 		result.velocitiesRestored = true;
 	}
-	if (restoreEnergy) updateGuard(island, after + potential, after - kinetic, timeStep);
+	// The guard's ledger: the energy this call left beyond its goal T* (Q16's Ẽ balance, every force Bullet applied
+	// counted, the app's and the solver's outside the call not at all): non-zero only where a bound of the scale held.
+	inv.ledger += after + half * afterPower - goal;
+	if (restoreEnergy) updateGuard(island, inv.ledger, after - kinetic, timeStep);
 	out.guarded = inv.guarded;
 	return out;
 }

@@ -2,8 +2,10 @@
 //
 // Ideal joints exert no power, so neither may their correction. Bullet has integrated the step (q, v) when the
 // stabilizer runs; the projection moves the island to (q', v'). Per island, across that one call:
-//   (Q15) E(q, v) = Σ_b ½ m_b |v_b|² + ½ ω_bᵀ I_b ω_b − m_b g_b·x_b           (g_b: the body's own gravity)
-//   (Q16) T(v*) + ½h Σ m g·v* = T(v) + ½h Σ m g·v − ΔV + ½ΔV_r − T_r,  ΔV = −Σ_b m_b g_b·(x'_b − x_b)
+//   (Q15) E(q, v) = Σ_b ½ m_b |v_b|² + ½ ω_bᵀ I_b ω_b + V,  ΔV = −Σ_b (F_b·Δx_b + τ_b·Δθ_b)
+//         (F_b, τ_b: the body's total force and torque for the step, getTotalForce/Torque: its gravity's m_b g_b and
+//         the app's)
+//   (Q16) T(v*) + ½h Σ F·v* = T(v) + ½h Σ F·v − ΔV + ½ΔV_r − T_r  (Σ F·v: Σ_b F_b·v_b + τ_b·ω_b)
 //         Bullet's semi-implicit Euler step keeps E + ½h Σ m g·v but for the solver's leftover r (ΔV_r the potential
 //         energy of its sag, T_r = ½ rᵀK⁻¹r its speed's kinetic energy; IslandProjection.cpp measures both)
 // A free island (every row between two island bodies, nothing outside touching it, no restricted axes) also gets its
@@ -14,7 +16,8 @@
 // step did (gravity, damping, motors, friction, contacts, limits, ERP, a push) is in (q, v) already: it is kept.
 // Not restored: a step in which a one-sided row (a limit, a contact: their stop's work) was projected or a body touches
 // something outside the island (a contact Bullet's solver works on), an island hung on a moving kinematic body (it
-// does work), and an island whose averaged energy grew by the restoration (the guard).
+// does work), and an island whose calls left, averaged, more energy than their goal (the guard, on that ledger alone:
+// what the app and Bullet's step do between calls is not in it).
 #ifndef QUATHINGE_STABILIZER_ISLAND_INVARIANTS_H
 #define QUATHINGE_STABILIZER_ISLAND_INVARIANTS_H
 

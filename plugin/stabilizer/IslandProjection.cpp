@@ -191,7 +191,8 @@ struct IslandStep
 	// (Q16) What the solver's leftover r did in Bullet's step, in the mass metric M with the velocity stage's
 	// factorization (one solve, after it; not measured without one): Bullet's impulse fell short by δλ, the bodies got
 	// δv = M⁻¹Jᵀδλ more (J δv = r; kinetic energy ½ rᵀK⁻¹r = ½ C_rᵀK⁻¹C_r / h²) and moved h δv, whose undoing
-	// Δx_r = M⁻¹JᵀK⁻¹(−C_r) changes the potential energy by −Σ m g·Δx_r. Uses λ and the deltas as scratch.
+	// (Δx_r, Δθ_r) = M⁻¹JᵀK⁻¹(−C_r) takes the work −Σ (F·Δx_r + τ·Δθ_r) of the step's forces (Q15: each body's total
+	// force and torque, gravity's and the app's). Uses λ and the deltas as scratch.
 	void measureLeftover()
 	{
 		if (!leftoverRecorded || !factorInM) return;
@@ -202,12 +203,12 @@ struct IslandStep
 		accumulateDeltas(island);
 		double lift = 0, kinetic = 0;
 		for (const IslandBody& b : island.bodies)
-			if (b.rigid->getInvMass() > 0)
-			{
-				const btVector3& g = b.rigid->getGravity();
-				lift -= (double(g.x()) * b.delta[0] + double(g.y()) * b.delta[1] + double(g.z()) * b.delta[2]) /
-						double(b.rigid->getInvMass());
-			}
+		{
+			// the work of the step's external force and torque (gravity's and the app's: Q15) on the move Δx_r, Δθ_r
+			const btVector3& f = b.rigid->getTotalForce();
+			const btVector3& t = b.rigid->getTotalTorque();
+			for (int k = 0; k < 3; ++k) lift -= double(f[k]) * b.delta[k] + double(t[k]) * b.delta[3 + k];
+		}
 		for (size_t j = 0; j < island.joints.size(); ++j)
 			kinetic -= island.blocks[j].leftover.template head<R>().dot(island.lambda[j].template head<R>());
 		result.leftoverLift = lift;

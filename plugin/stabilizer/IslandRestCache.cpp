@@ -35,7 +35,7 @@ struct Gather
 };
 
 // Scalars gathered per island body, per fixed partner, per joint (and its multi-turn angle), and for the step.
-const size_t kPerBody = 12 + 3 + 3 + 1 + 3 + 3 + 3 + 1 + 3;
+const size_t kPerBody = 12 + 3 + 3 + 1 + 3 + 3 + 3 + 1 + 3 + 3 + 3;
 const size_t kPerFixedSide = 12 + 3 + 3;
 const size_t kPerJoint = 12 + 12 + 1 + 2;
 // a contact slot (projectContacts): its points' count, then per point its local and partner points, normal and sign
@@ -68,6 +68,8 @@ void gatherInputs(const Island& island, btScalar timeStep, Array<btScalar>& out)
 		g.add(body.getAngularFactor());
 		g.add(btScalar(b.contactScale));  // whether it touches something outside the island (IslandBodies.cpp)
 		g.add(body.getGravity());         // the energy restoration's potential (IslandInvariants.h)
+		g.add(body.getTotalForce());      // … and the step's forces (its gravity's and the app's: Q15)
+		g.add(body.getTotalTorque());
 	}
 	for (const JointSlot& js : island.joints)
 	{

@@ -110,8 +110,9 @@ struct IslandBody
 	btTransform saved;                  // the transform before the last Newton step (for backtracking)
 	// This step: 1, or kContactWeight when the body touches something outside its island (IslandBodies.cpp)
 	double contactScale = 1;
-	int contactSet = -1;                           // its contact slot's points in Island::contacts (projectContacts), else −1
-	btVector3 startPosition = btVector3(0, 0, 0);  // its centre of mass before this step's projection (IslandInvariants.h)
+	int contactSet = -1;                                       // its contact slot's points in Island::contacts (projectContacts), else −1
+	btVector3 startPosition = btVector3(0, 0, 0);              // its centre of mass before this step's projection (IslandInvariants.h)
+	btQuaternion startRotation = btQuaternion::getIdentity();  // … and its orientation
 };
 
 /// J of one joint in R-row blocks (the block's storage rows, BlockShape, are zero).
@@ -282,7 +283,7 @@ struct Island
 	struct Invariants
 	{
 		double kinetic = 0;                                  // J
-		double gravityPower = 0;                             // W: Σ m_b g_b·v_b (the shadow energy's term, Q16)
+		double forcePower = 0;                               // W: Σ F_b·v_b + τ_b·ω_b (the shadow energy's term, Q16)
 		Eigen::Vector3d momentum = Eigen::Vector3d::Zero();  // kg·m/s
 		Eigen::Vector3d angular = Eigen::Vector3d::Zero();   // kg·m²/s, about the centre of mass (a free island)
 		double mass = 0;                                     // kg
@@ -293,6 +294,7 @@ struct Island
 		// the guard: the energy's running average (J), its lowest value, the restoration's summed work (J) then and now
 		double scale = 0;  // J: the island's energy scale (set at its first record)
 		double average = 0, lowest = 0, workAtLowest = 0, work = 0, elapsed = 0;
+		double ledger = 0;     // J: the energy the calls left beyond their goal T* (IslandInvariants.cpp), the guard's input
 		bool guarded = false;  // the guard stopped the energy restoration (until the island is rebuilt)
 	} invariants;
 	RestCache restCache;

@@ -212,16 +212,19 @@ struct btQuaternionHingeStabilizerSettings
 	btQuaternionHingeStabilizerSolver solver = BT_QHSTAB_SOLVER_AUTO;
 	/// The projection does no work (on by default; docs/ENERGY.md, Q15–Q19). Ideal joints exert no power, so their
 	/// correction may neither add nor remove energy. Per island and step, after the projection its kinetic energy is
-	/// set so that its energy (kinetic + the potential of each body's own gravity, with the term ½h Σ m g·v that makes
-	/// it the invariant of Bullet's semi-implicit Euler step) is what Bullet's step left, corrected for what Bullet's
+	/// set so that its energy (kinetic + the work of each body's total force and torque for the step, its gravity's and
+	/// what the app applied with applyForce/applyTorque, with the term ½h Σ F·v that makes it the invariant of Bullet's
+	/// semi-implicit Euler step) is what Bullet's step left, corrected for what Bullet's
 	/// solver left undone (the sag it let happen and the speed it gave). What the joints' curvature costs (the velocity
 	/// projection's share (m d²/I)(ωh)² per step, the position correction's pull back onto the manifold) is given back. What Bullet's step did (gravity, damping, motors,
 	/// friction, contacts, limits, a push) is kept. A free island (no static, kinematic or touching partner) also
 	/// keeps its linear momentum and its angular momentum (its rigid spin scaled, unless a constraint not projected ties
 	/// it to other bodies), and only its motion relative to its rigid motion is scaled. Not restored in a step where a limit or contact row was
 	/// projected (their work), on an island touching something outside it (a ragdoll settles on the ground with the projection's damping),
-	/// on an island hung on a moving kinematic body, and on an island whose averaged energy
-	/// rose by the restoration's own work (a guard: getLastStats().energyGuardedIslands). At most 10% of the speeds
+	/// on an island hung on a moving kinematic body, and on an island whose calls left, averaged, more energy than their
+	/// goal (a guard on the stabilizer's own ledger, blind to the app's work: getLastStats().energyGuardedIslands). A
+	/// push, an app spring, a gravity change, a motor burst and damping keep their energy (docs/ENERGY.md, "Under an
+	/// app's forces"). At most 10% of the speeds
 	/// per step; one more solve per island and step, no factorization (chain100: +5.8% instructions per step).
 	/// Measured (float, 60 Hz, 10 iterations): a 1 m bar pendulum released at 90° keeps its swing energy within 0.15%
 	/// over 60 s and its period within 1.3e-4 (without it: 89% lost, 9% short); every conservative scene of the
@@ -284,8 +287,8 @@ struct btQuaternionHingeStabilizerStats
 										  ///< conserveEnergy)
 	int energyRestoredIslands = 0;        ///< islands whose kinetic energy keepEnergyAndMomentum set this step
 	int momentumRestoredIslands = 0;      ///< free islands whose momentum keepEnergyAndMomentum put back this step
-	int energyGuardedIslands = 0;         ///< islands whose energy restoration the guard has stopped (their averaged energy
-										  ///< rose by the restoration's own work; until the island is rebuilt)
+	int energyGuardedIslands = 0;         ///< islands whose energy restoration the guard has stopped (their calls left,
+										  ///< averaged, more energy than their goal; until the island is rebuilt)
 	double timeMicroseconds = 0;          ///< wall time of the call
 };
 

@@ -1,0 +1,279 @@
+// btQuaternionHingeStabilizer's energy treatment under the forces a real Bullet app applies (docs/ENERGY.md, "Under an
+// app's forces"): a push, an app spring, gravity switched, damping, a kinematic driver, a motor burst, heavy tips, a
+// free tumbling chain. Independent reference: stock Bullet (btHingeConstraint, no stabilizer) at a 1/1000 s step.
+// Float and double, 60 Hz, 10 iterations, the stabilizer's defaults; energies are 1 s averages (ForceScenes.h).
+#ifdef QUATHINGE_HAVE_STABILIZER
+#include "support/ForceScenes.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+
+using namespace qh_test;
+
+namespace
+{
+const double kReferenceHz = 1000;  // the stock reference's step rate (Hz)
+
+ForceRecord run(const ForceChain& c, const ForceHooks& k, ForceKind kind, double hz, double seconds)
+{
+	return runForceChain(c, k, kind, hz, seconds);
+}
+
+// An app spring (stiffness k, N/m; rest length 0) from the chain's last link's far end toward `target`, applied with
+// applyForce before every step.
+ForceHooks appSpring(double k, const btVector3& target)
+{
+	ForceHooks hooks;
+	auto tip = [](const std::vector<btRigidBody*>& links) {
+		const btRigidBody* b = links.back();
+		const btVector3 half = static_cast<const btBoxShape*>(b->getCollisionShape())->getHalfExtentsWithMargin();
+		const btVector3 local = half.x() > half.y() ? btVector3(half.x(), 0, 0) : btVector3(0, -half.y(), 0);
+		return b->getCenterOfMassTransform() * local;
+	};
+	hooks.before = [=](StabilizerScene&, const std::vector<btRigidBody*>& links, btRigidBody*,
+					   std::vector<btTypedConstraint*>&, double, double) {
+		btRigidBody* b = links.back();
+		const btVector3 p = tip(links);
+		b->applyForce(-btScalar(k) * (p - target), p - b->getCenterOfMassPosition());
+	};
+	hooks.extraEnergy = [=](const std::vector<btRigidBody*>& links) {
+		return 0.5 * k * double((tip(links) - target).length2());
+	};
+	return hooks;
+}
+
+// Relative change of the 1 s mean energy from [t0, t0 + 1) to [t1 − 1, t1).
+double change(const ForceRecord& r, double t0, double t1) { return r.mean(t1 - 1, t1) / r.mean(t0, t0 + 1) - 1; }
+
+void report(const char* name, double stabilized, double reference, const char* what)
+{
+	std::printf("[forces] %-34s %-28s 60 Hz stabilized %+.4f   1 kHz stock %+.4f\n", name, what, stabilized, reference);
+}
+
+
+// Each run below holds its joints to the separation target (StabilizerScene.h: 1e-5 m in float).
+void expectHeld(const ForceRecord& r, const char* name)
+{
+	EXPECT_TRUE(r.finite) << name;
+	EXPECT_LE(r.maxSeparation, kSeparationTolerance) << name;
+}
+
+// The issue's bounds (docs/ENERGY.md, "Under an app's forces"): relative changes of the 1 s mean energy.
+const double kConservativeBound = 0.10;  // a conservative run's change over 20 s
+const double kReferenceBound = 0.15;     // a push's or a damped run's energy against stock at 1 kHz
+const double kStretchBound = 0.05;       // within one stretch of constant gravity
+const double kFreeSwingBound = 0.15;     // a motor's energy over the free swing after its burst
+const double kHeavyGain = 0.02;          // the 1:1000 tip: no gain beyond this
+const double kMomentumBound = 1e-5;      // kg·m/s: a free chain's linear momentum
+const double kAngularMargin = 0.005;     // a free chain's |ΔL|/|L₀| beyond the bare joints'
+}  // namespace
+
+// A chain swinging freely, pushed once at 1 s, then free for 20 s: the energy it keeps is stock Bullet's at 1 kHz
+// within 15%.
+TEST(StabilizerForces, APushIsKeptAsBulletKeepsItAt1kHz)
+{
+	ForceChain chain;
+	chain.hanging = true;
+	chain.planar = true;
+	ForceHooks hooks;
+	hooks.before = [](StabilizerScene&, const std::vector<btRigidBody*>& links, btRigidBody*,
+					  std::vector<btTypedConstraint*>&, double t, double h) {
+		if (t == 0) links.back()->applyCentralImpulse(btVector3(2, 0, 0));                      // N·s: a small swing first
+		if (std::fabs(t - 1) < 0.5 * h) links.back()->applyCentralImpulse(btVector3(0, 0, 6));  // the push, across
+	};
+	const ForceRecord s = run(chain, hooks, ForceKind::Stabilized, 60, 21);
+	const ForceRecord ref = run(chain, hooks, ForceKind::Stock, kReferenceHz, 21);
+	const double kept = s.mean(20, 21) / s.mean(1.1, 1.2), keptRef = ref.mean(20, 21) / ref.mean(1.1, 1.2);
+	report("push at 1 s, 3 links", kept, keptRef, "kept at 21 s (of 1.1 s)");
+	expectHeld(s, "push");
+	EXPECT_NEAR(kept / keptRef, 1, kReferenceBound);
+}
+
+// An app spring (applyForce toward a point before every step) on a hanging 2-link chain (k = 200 N/m) and a
+// pendulum in zero gravity (k = 20 N/m): the energy with the spring's potential changes by at most 10% in 20 s, and
+// at 240 Hz by at most half as much as at 60 Hz.
+TEST(StabilizerForces, AnAppSpringKeepsItsEnergy)
+{
+	struct Case
+	{
+		const char* name;
+		int links;
+		double gravity, k;
+		bool hanging;
+		btVector3 target;
+	} cases[] = {{"spring k=200, 2 links, g", 2, 10, 200, true, btVector3(1, 9, 0)},
+				 {"spring k=20, pendulum, g=0", 1, 0, 20, false, btVector3(0, btScalar(10.5), 0)}};
+	for (const Case& c : cases)
+	{
+		ForceChain chain;
+		chain.links = c.links;
+		chain.gravity = c.gravity;
+		chain.hanging = c.hanging;
+		const ForceHooks hooks = appSpring(c.k, c.target);
+		const ForceRecord s = run(chain, hooks, ForceKind::Stabilized, 60, 20);
+		const ForceRecord s240 = run(chain, hooks, ForceKind::Stabilized, 240, 20);
+		const ForceRecord ref = run(chain, hooks, ForceKind::Stock, kReferenceHz, 20);
+		report(c.name, change(s, 0, 20), change(ref, 0, 20), "energy change 0→20 s");
+		std::printf("[forces]     240 Hz %+.4f\n", change(s240, 0, 20));
+		expectHeld(s, c.name);
+		expectHeld(s240, c.name);
+		EXPECT_LE(std::fabs(change(s, 0, 20)), kConservativeBound) << c.name;
+		EXPECT_LE(std::fabs(change(s240, 0, 20)), 0.5 * std::fabs(change(s, 0, 20))) << c.name;
+	}
+}
+
+// Gravity switched g → 2g → g/2 → 0 every 5 s on a 3-D 3-link chain: within each stretch the energy (with that
+// stretch's gravity) changes by at most 5%.
+TEST(StabilizerForces, GravitySwitchedKeepsEachStretchsEnergy)
+{
+	ForceChain chain;
+	ForceHooks hooks;
+	hooks.before = [](StabilizerScene& scene, const std::vector<btRigidBody*>&, btRigidBody*,
+					  std::vector<btTypedConstraint*>&, double t, double h) {
+		const double g[4] = {10, 20, 5, 0};
+		const int stretch = std::min(3, int(std::floor((t + 0.5 * h) / 5)));
+		scene.world().setGravity(btVector3(0, btScalar(-g[stretch]), 0));
+	};
+	const ForceRecord s = run(chain, hooks, ForceKind::Stabilized, 60, 20);
+	const ForceRecord ref = run(chain, hooks, ForceKind::Stock, kReferenceHz, 20);
+	expectHeld(s, "gravity");
+	for (int k = 0; k < 4; ++k)
+	{
+		report("gravity g, 2g, g/2, 0", change(s, 5 * k, 5 * k + 5), change(ref, 5 * k, 5 * k + 5), "stretch change");
+		EXPECT_LE(std::fabs(change(s, 5 * k, 5 * k + 5)), kStretchBound) << "stretch " << k;
+	}
+}
+
+// Linear and angular damping 0.1 on a 3-D 3-link chain: its energy at 20 s is stock's at 1 kHz within 15%.
+TEST(StabilizerForces, DampingTakesWhatItTakesAt1kHz)
+{
+	ForceChain chain;
+	chain.damping = 0.1;
+	const ForceRecord s = run(chain, {}, ForceKind::Stabilized, 60, 20);
+	const ForceRecord ref = run(chain, {}, ForceKind::Stock, kReferenceHz, 20);
+	report("damping 0.1, 3 links", s.mean(19, 20) / ref.mean(19, 20) - 1, 0, "20 s energy against 1 kHz");
+	expectHeld(s, "damping");
+	EXPECT_NEAR(s.mean(19, 20) / ref.mean(19, 20), 1, kReferenceBound);
+}
+
+// A conservative 3-D 3-link chain and 4-link chains with a 1:100 and a 1:1000 tip, released horizontally: the
+// 3-link and 1:100 chains within 10% at 20 s (at 240 Hz at most half the 60 Hz change), the 1:1000 chain without gain
+// beyond 2% and at least half its energy kept.
+TEST(StabilizerForces, ConservativeAndHeavyChainsKeepTheirEnergy)
+{
+	for (double m : {1.0, 100.0, 1000.0})
+	{
+		ForceChain chain;
+		chain.links = m == 1 ? 3 : 4;
+		chain.lastMass = m;
+		const ForceRecord s = run(chain, {}, ForceKind::Stabilized, 60, 20);
+		const ForceRecord s240 = run(chain, {}, ForceKind::Stabilized, 240, 20);
+		const ForceRecord ref = run(chain, {}, ForceKind::Stock, kReferenceHz, 20);
+		char name[64];
+		std::snprintf(name, sizeof name, "chain %d links, tip 1:%g", chain.links, m);
+		const double c60 = change(s, 0, 20), c240 = change(s240, 0, 20);
+		report(name, c60, change(ref, 0, 20), "energy change 0→20 s");
+		std::printf("[forces]     240 Hz %+.4f\n", c240);
+		expectHeld(s, name);
+		expectHeld(s240, name);
+		if (m < 1000)
+		{
+			EXPECT_LE(std::fabs(c60), kConservativeBound) << name;
+			EXPECT_LE(std::fabs(c240), 0.5 * std::fabs(c60)) << name;
+		}
+		else
+		{
+			EXPECT_LE(c60, kHeavyGain) << name;
+			EXPECT_GE(c60, -0.5) << name;
+		}
+	}
+}
+
+// A velocity motor drives the first joint of a hanging 2-link chain for 0.5 s (4 rad/s, at most 50 N·m), then the
+// chain swings freely: the energy the motor left changes by at most 15% over the free swing (1 s to 20 s).
+TEST(StabilizerForces, AMotorBurstsEnergyIsKept)
+{
+	ForceChain chain;
+	chain.links = 2;
+	chain.hanging = true;
+	chain.planar = true;
+	ForceHooks hooks;
+	hooks.before = [](StabilizerScene&, const std::vector<btRigidBody*>&, btRigidBody*,
+					  std::vector<btTypedConstraint*>& joints, double t, double h) {
+		const bool on = t < 0.5;
+		if (auto* q = dynamic_cast<btQuaternionHingeConstraint*>(joints[0])) q->enableAngularMotor(on, 4, btScalar(50 * h));
+		else if (auto* c = dynamic_cast<btHingeConstraint*>(joints[0])) c->enableAngularMotor(on, 4, btScalar(50 * h));
+	};
+	const ForceRecord s = run(chain, hooks, ForceKind::Stabilized, 60, 20);
+	const ForceRecord ref = run(chain, hooks, ForceKind::Stock, kReferenceHz, 20);
+	report("motor burst, 2 links", change(s, 1, 20), change(ref, 1, 20), "free-swing change 1→20 s");
+	expectHeld(s, "motor");
+	EXPECT_LE(std::fabs(change(s, 1, 20)), kFreeSwingBound);
+}
+
+// A free 3-link chain (zero gravity) tumbling about a general axis, 30 s: linear momentum within 1e-5 kg·m/s, the
+// angular momentum's drift at most the bare joints' + 0.5% of |L₀|.
+TEST(StabilizerForces, AFreeTumblingChainKeepsItsMomentum)
+{
+	ForceChain chain;
+	chain.free = true;
+	ForceHooks hooks;
+	hooks.start = [](const std::vector<btRigidBody*>& links) {
+		const btVector3 w(btScalar(0.3), btScalar(0.5), btScalar(1.9));
+		btVector3 centre(0, 0, 0);
+		for (const btRigidBody* b : links) centre += b->getCenterOfMassPosition();
+		centre /= btScalar(links.size());
+		for (btRigidBody* b : links)
+		{
+			b->setAngularVelocity(w);
+			b->setLinearVelocity(w.cross(b->getCenterOfMassPosition() - centre));
+		}
+	};
+	const ForceRecord s = run(chain, hooks, ForceKind::Stabilized, 60, 30);
+	const ForceRecord bare = run(chain, hooks, ForceKind::Bare, 60, 30);
+	report("free tumble, 3 links, 30 s", s.angularDrift, bare.angularDrift, "|ΔL|/|L₀| (ref: bare, 60 Hz)");
+	std::printf("[forces]     linear momentum %.2e kg·m/s\n", s.linearMomentum);
+	expectHeld(s, "tumble");
+	EXPECT_LE(s.linearMomentum, kMomentumBound);
+	EXPECT_LE(s.angularDrift, bare.angularDrift + kAngularMargin);
+}
+
+// Figures the issue asks for that this design does not reach (docs/ENERGY.md, "Limitations"): printed, not asserted.
+TEST(StabilizerForces, FiguresNotYetMet)
+{
+	{  // two links on a k = 50 N/m app spring in zero gravity
+		ForceChain chain;
+		chain.links = 2;
+		chain.gravity = 0;
+		const ForceHooks hooks = appSpring(50, btVector3(btScalar(0.2), btScalar(10.6), btScalar(0.3)));
+		const ForceRecord s = run(chain, hooks, ForceKind::Stabilized, 60, 20);
+		const ForceRecord s240 = run(chain, hooks, ForceKind::Stabilized, 240, 20);
+		const ForceRecord bare = run(chain, hooks, ForceKind::Bare, 60, 20);
+		const ForceRecord ref = run(chain, hooks, ForceKind::Stock, kReferenceHz, 20);
+		report("spring k=50, 2 links, g=0", change(s, 0, 20), change(ref, 0, 20), "energy change 0→20 s");
+		std::printf("[forces]     240 Hz %+.4f, bare 60 Hz %+.4f\n", change(s240, 0, 20), change(bare, 0, 20));
+		expectHeld(s, "spring k=50");
+	}
+	{  // a kinematic driver: 1 m/s along x for 1 s, then still
+		ForceChain chain;
+		chain.links = 2;
+		chain.hanging = true;
+		chain.planar = true;
+		chain.kinematic = true;
+		ForceHooks hooks;
+		hooks.before = [](StabilizerScene&, const std::vector<btRigidBody*>&, btRigidBody* anchor,
+						  std::vector<btTypedConstraint*>&, double t, double h) {
+			const double x = std::min(t + h, 1.0);
+			anchor->getMotionState()->setWorldTransform(btTransform(btQuaternion::getIdentity(), btVector3(btScalar(x), 10, 0)));
+		};
+		const ForceRecord s = run(chain, hooks, ForceKind::Stabilized, 60, 3);
+		const ForceRecord s240 = run(chain, hooks, ForceKind::Stabilized, 240, 3);
+		const ForceRecord ref = run(chain, hooks, ForceKind::Stock, kReferenceHz, 3);
+		report("kinematic driver, 2 links", s.mean(1.5, 2.5), ref.mean(1.5, 2.5), "energy after the stop (J)");
+		std::printf("[forces]     240 Hz %.4f J\n", s240.mean(1.5, 2.5));
+		expectHeld(s, "kinematic");
+	}
+}
+#endif
