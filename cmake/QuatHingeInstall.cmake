@@ -60,6 +60,15 @@ install(FILES ${PROJECT_BINARY_DIR}/${QUATHINGE_PC_NAME}.pc DESTINATION ${CMAKE_
 # ---- models (the installed programs find them at <prefix>/share/quathinge/models), LICENSE -------------------------
 install(DIRECTORY ${PROJECT_SOURCE_DIR}/demos/models/ DESTINATION ${CMAKE_INSTALL_DATADIR}/quathinge/models)
 install(FILES ${PROJECT_SOURCE_DIR}/LICENSE DESTINATION ${CMAKE_INSTALL_DATADIR}/doc/quathinge)
+# ---- the manual (README.md, CHANGELOG.md, docs/*.md with their images) and the hello-world program ---------------------
+# share/doc/quathinge: the programs' --help names it (QUATHINGE_DOC_DIR, demos/CMakeLists.txt); README's links into
+# docs/ hold there as in the repository (README.md beside docs/).
+install(FILES ${PROJECT_SOURCE_DIR}/README.md ${PROJECT_SOURCE_DIR}/CHANGELOG.md
+        DESTINATION ${CMAKE_INSTALL_DATADIR}/doc/quathinge)
+install(DIRECTORY ${PROJECT_SOURCE_DIR}/docs/ DESTINATION ${CMAKE_INSTALL_DATADIR}/doc/quathinge/docs
+        FILES_MATCHING PATTERN "*.md" PATTERN "*.png" PATTERN "*.svg")
+install(FILES ${PROJECT_SOURCE_DIR}/demos/hello/hello.cpp ${PROJECT_SOURCE_DIR}/demos/hello/CMakeLists.txt
+        DESTINATION ${CMAKE_INSTALL_DATADIR}/doc/quathinge/hello)
 
 # ---- CPack: `cpack -G DEB` (or TGZ) from a build tree -------------------------------------------------------------
 # The .deb's Depends name the Debian package that owns the Bullet headers and link files this build used (dpkg-query

@@ -13,7 +13,7 @@ cmake --build "$build" -j2 --target quathinge-viewer
 viewer="$build/demos/viewer/quathinge-viewer"
 models=${QUATHINGE_MODELS_DIR:-demos/models}
 run() { xvfb-run -a -s "-screen 0 1280x720x24" "$viewer" --models "$models" "$@"; }
-run --scene heavy1000 --kinds stock,quaternion+stab --screenshot docs/images/viewer_heavy1000.png --frames 90
-run --scene heavy1000 --kinds stock,quaternion+stab --strip docs/images/viewer_heavy1000_strip.png \
+run --scenes heavy1000 --kinds stock,quaternion+stab --screenshot docs/images/viewer_heavy1000.png --frames 90
+run --scenes heavy1000 --kinds stock,quaternion+stab --strip docs/images/viewer_heavy1000_strip.png \
     --strip-frames 15,45,75,105 --no-ui --size 960
-run --scene spider --kinds stock,quaternion,quaternion+stab --screenshot docs/images/viewer_spider.png --frames 120
+run --scenes spider --kinds stock,quaternion,quaternion+stab --screenshot docs/images/viewer_spider.png --frames 120

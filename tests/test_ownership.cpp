@@ -5,6 +5,7 @@
 #ifdef QUATHINGE_HAVE_WORLD_IMPORTER
 
 #include "quathinge/btQuaternionHingeConstraint.h"
+#include "quathinge/btQuaternionHingeWorldImporter.h"  // btReplaceHingeConstraints with the importer
 
 #include <btBulletDynamicsCommon.h>
 #include <btBulletWorldImporter.h>
@@ -89,16 +90,60 @@ TEST(Ownership, ImportersHingesStayItsOwnWithoutARemovedArray)
 	EXPECT_EQ(world.world().getNumCollisionObjects(), 0);
 }
 
-TEST(Ownership, RemovedArrayHandsBackTheImportersOwnHinges)
+TEST(Ownership, WithTheImporterRemovedHoldsOnlyTheAppsOwnHinges)
 {
-	// With a removedStock array the caller gets exactly the hinges the importer loaded (to inspect, not to delete:
-	// they are the importer's), and deleteAllData still deletes each once.
+	// A world the importer loaded, plus one stock hinge the app allocated: given the importer, the removed array holds
+	// exactly the app's hinge, which the app deletes; deleteAllData deletes the importer's 24 once. Under ASan
+	// (build-asan, and the docs_snippets test's sanitized app) a hinge deleted twice or never fails the run.
+	qh_test::World world;
+	btBulletWorldImporter importer(&world.world());
+	ASSERT_TRUE(importer.loadFile(spiderFile().c_str())) << spiderFile();
+	btRigidBody* box = world.addBox(1, btVector3(btScalar(0.1), btScalar(0.1), btScalar(0.1)),
+									btTransform(btQuaternion::getIdentity(), btVector3(0, 5, 0)));
+	btHingeConstraint* apps = new btHingeConstraint(*box, btVector3(0, 1, 0), btVector3(0, 0, 1));
+	world.world().addConstraint(apps);
+	btAlignedObjectArray<btQuaternionHingeConstraint*> added;
+	btAlignedObjectArray<btHingeConstraint*> removed;
+	EXPECT_EQ(btReplaceHingeConstraints(&world.world(), &added, &removed, importer), kSpiderHinges + 1);
+	EXPECT_EQ(countStockHinges(world.world()), 0);
+	ASSERT_EQ(removed.size(), 1);
+	EXPECT_EQ(removed[0], apps);
+	for (int i = 0; i < removed.size(); ++i) delete removed[i];  // README's snippet 3: the removed array is yours
+	// the app's hinge's replacement (the last one): stepped with the spider, not checked against the spider's bound
+	added.pop_back();
+	btQuaternionHingeConstraint* appsReplacement = btQuaternionHingeConstraint::upcast(
+		world.world().getConstraint(world.world().getNumConstraints() - 1));
+	ASSERT_NE(appsReplacement, nullptr);
+	stepAndCheck(world, added);
+	world.world().removeConstraint(appsReplacement);
+	delete appsReplacement;
+	removeAndDelete(world, added);
+	importer.deleteAllData();  // the importer's stock hinges, bodies and shapes: each deleted once
+	EXPECT_EQ(world.world().getNumConstraints(), 0);
+}
+
+TEST(Ownership, DeprecatedRemovedArrayHandsBackEveryHingeAsBefore)
+{
+	// The deprecated three-argument form keeps its meaning: every stock hinge taken out, the importer's too (to
+	// inspect, not to delete), and deleteAllData still deletes each once.
 	qh_test::World world;
 	btBulletWorldImporter importer(&world.world());
 	ASSERT_TRUE(importer.loadFile(spiderFile().c_str())) << spiderFile();
 	btAlignedObjectArray<btQuaternionHingeConstraint*> added;
 	btAlignedObjectArray<btHingeConstraint*> removed;
+#if defined(__GNUC__)
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wdeprecated-declarations"
+#elif defined(_MSC_VER)
+#pragma warning(push)
+#pragma warning(disable : 4996)
+#endif
 	EXPECT_EQ(btReplaceHingeConstraints(&world.world(), &added, &removed), kSpiderHinges);
+#if defined(__GNUC__)
+#pragma GCC diagnostic pop
+#elif defined(_MSC_VER)
+#pragma warning(pop)
+#endif
 	ASSERT_EQ(removed.size(), kSpiderHinges);
 	for (int i = 0; i < removed.size(); ++i)
 	{

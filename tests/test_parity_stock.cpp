@@ -260,7 +260,7 @@ TEST(ParityWithStock, ReplaceHingeConstraintsSwapsEveryStockHinge)
 	w.addConstraint(&p);
 	btAlignedObjectArray<btQuaternionHingeConstraint*> added;
 	btAlignedObjectArray<btHingeConstraint*> removed;
-	EXPECT_EQ(btReplaceHingeConstraints(&w, &added, &removed), 3);
+	EXPECT_EQ(btReplaceHingeConstraints(&w, &added, &removed, nullptr), 3);
 	EXPECT_EQ(w.getNumConstraints(), 4);
 	EXPECT_EQ(added.size(), 3);
 	EXPECT_EQ(removed.size(), 3);

@@ -38,7 +38,7 @@ TEST(ReplaceHingeConstraints, KeepsTheWorldsConstraintOrder)
 	for (int i = 0; i < 7; ++i) w.addConstraint(before[i], i % 2 == 0);
 	btAlignedObjectArray<btQuaternionHingeConstraint*> added;
 	btAlignedObjectArray<btHingeConstraint*> removed;
-	ASSERT_EQ(btReplaceHingeConstraints(&w, &added, &removed), 4);
+	ASSERT_EQ(btReplaceHingeConstraints(&w, &added, &removed, nullptr), 4);
 	ASSERT_EQ(w.getNumConstraints(), 7);
 	int next = 0;  // the next replacement
 	for (int i = 0; i < 7; ++i)

@@ -20,6 +20,8 @@
 // default Bullet app has.
 //
 // Ratios against stock and the scaling plot: demos/bench_report.py; everything in one go: demos/make_bench.sh.
+// --help, --scenes and --kinds: BenchArguments.h.
+#include "BenchArguments.h"
 #include "JointKinds.h"
 #include "SceneSpec.h"
 #include "Simulation.h"
@@ -363,6 +365,8 @@ void benchStep(benchmark::State& state, const StepScene* spec, Kind kind)
 /// The fastest repetition, reported next to the median: on a shared machine other work only ever adds time.
 double minimum(const std::vector<double>& v) { return v.empty() ? 0 : *std::min_element(v.begin(), v.end()); }
 
+std::vector<std::string> g_caseNames;  // every registered case, for --help and --kinds
+
 void registerAll()
 {
 	for (double angle : kJointAngles)
@@ -372,6 +376,7 @@ void registerAll()
 				char angleName[16];
 				std::snprintf(angleName, sizeof(angleName), "a%.1f", angle);
 				const std::string name = std::string("joint/") + angleName + "/" + config.name + "/" + jointTypeName(type);
+				g_caseNames.push_back(name);
 				benchmark::RegisterBenchmark(name.c_str(), benchJoint, type, config, angle)
 					->Unit(benchmark::kNanosecond)
 					->ComputeStatistics("min", minimum);
@@ -427,6 +432,7 @@ void registerAll()
 			const bool stabilizedStock = kind == Kind::StockStabilized || kind == Kind::Generic6Dof2Stabilized;
 			if (stabilizedStock && !s.stabilizedStock) continue;
 			const std::string name = "step/" + s.scene.name + "/" + kindName(kind);
+			g_caseNames.push_back(name);
 			benchmark::RegisterBenchmark(name.c_str(), benchStep, &s, kind)
 				->Unit(benchmark::kMicrosecond)
 				->Iterations(s.timed)
@@ -447,8 +453,28 @@ int main(int argc, char** argv)
 #endif
 	}
 	registerAll();
-	benchmark::Initialize(&argc, argv);
-	if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
+	std::vector<std::string> kinds;  // the cases' last name part
+	for (const std::string& n : g_caseNames)
+		if (std::find(kinds.begin(), kinds.end(), n.substr(n.rfind('/') + 1)) == kinds.end())
+			kinds.push_back(n.substr(n.rfind('/') + 1));
+	quathinge::bench::Arguments arguments = quathinge::bench::parseArguments(argc, argv, kinds);
+	if (!arguments.error.empty())
+	{
+		std::fprintf(stderr, "quathinge-bench: %s\n", arguments.error.c_str());
+		return 1;
+	}
+	if (arguments.help)
+	{
+		std::fputs(quathinge::bench::helpText(g_caseNames, kinds, manualDir()).c_str(), stdout);
+		std::fflush(stdout);
+		arguments.passOn.push_back("--help");  // Google Benchmark's own options follow (it exits)
+	}
+	std::vector<char*> args;
+	for (std::string& a : arguments.passOn) args.push_back(a.data());
+	int count = int(args.size());
+	args.push_back(nullptr);  // argv[argc], as main's
+	benchmark::Initialize(&count, args.data());
+	if (benchmark::ReportUnrecognizedArguments(count, args.data())) return 1;
 	benchmark::RunSpecifiedBenchmarks();
 	benchmark::Shutdown();
 	return 0;

@@ -113,8 +113,12 @@ int main(int argc, char** argv)
 	std::string referenceExe, dumpReference, referenceDir, writeReferenceDir;
 	double referenceDt = kReferenceStep;
 	int dumpSteps = 0;
-	app.add_option("-s,--scenes", scenes, "scene names (--list shows them), or URDF paths")->capture_default_str();
-	app.add_option("-k,--kinds", kinds, "joint kinds (below; docs/PEERS.md for the peers' settings)")->capture_default_str();
+	app.add_option("-s,--scenes", scenes, "scene names (--list shows them), or URDF paths: -s a b or --scenes a,b")
+		->delimiter(',')
+		->capture_default_str();
+	app.add_option("-k,--kinds", kinds, "joint kinds (below; PEERS.md for the peers' settings): -k a b or --kinds a,b")
+		->delimiter(',')
+		->capture_default_str();
 	app.add_option("--dt", dt, "time step (s)")->capture_default_str()->check(CLI::PositiveNumber);
 	app.add_option("-i,--iterations", iterations, "solver iterations")->capture_default_str()->check(CLI::PositiveNumber);
 	app.add_option("-d,--duration", duration, "simulated seconds (default: each scene's own)");
@@ -144,16 +148,19 @@ int main(int argc, char** argv)
 	app.add_option("--reference-dir", referenceDir,
 				   "measure reference_error_m against the common references DIR/<scene>.ref (--write-reference)");
 	app.add_option("--write-reference", writeReferenceDir,
-				   "write each scene's common reference to DIR/<scene>.ref (run it in the double build: docs/PEERS.md), "
+				   "write each scene's common reference to DIR/<scene>.ref (run it in the double build: PEERS.md), "
 				   "print its step, halving change, divergence time and horizon, and exit (-d: its length, default the "
 				   "scene's duration)");
 	app.add_option("--reference-dt", referenceDt, "the common reference's step (s)")->capture_default_str()->check(CLI::PositiveNumber);
-	app.footer("Joint kinds (-k):" + kindsHelp() + "\n" +
+	app.footer("Joint kinds (-k, --kinds):" + kindsHelp() + "\n" +
 			   "\nExample: compare stock and the stabilized hinge on two chains at 200 Hz and 20 iterations:\n"
 			   "  quathinge-compare -s heavy1000 chain30 -k stock quaternion+stab --dt 0.005 -i 20 -o my-run\n"
 			   "writes my-run/results.csv and my-run/results.json under the current directory and prints the table.\n"
 			   "Defaults: 60 Hz (--dt 0.0166667), 10 iterations, each scene's own duration, the kinds stock 6dof2 "
-			   "quaternion quaternion+stab multibody stock+stab 6dof2+stab, output in ./quathinge-out.");
+			   "quaternion quaternion+stab multibody stock+stab 6dof2+stab, output in ./quathinge-out.\n"
+			   "\nThe manual (PEERS.md: the peers and the common reference; ENERGY.md: energy; RESULTS.md: the tables "
+			   "this program makes) is in " +
+			   manualDir());
 	CLI11_PARSE(app, argc, argv);
 
 	if (models.empty()) models = defaultModelsDir();

@@ -186,8 +186,7 @@ public:
 		// what a Bullet user does with a loaded file: one call swaps every stock hinge for its quaternion hinge
 		// (btQuaternionHingeConstraint(const btHingeConstraint&) each); the removed stock hinges stay the loader's
 		btAlignedObjectArray<btQuaternionHingeConstraint*> added;
-		btAlignedObjectArray<btHingeConstraint*> removed;
-		const int replaced = btReplaceHingeConstraints(&world, &added, &removed);
+		const int replaced = btReplaceHingeConstraints(&world, &added);
 		if (replaced != stock.size())
 			throw std::runtime_error("btReplaceHingeConstraints replaced " + std::to_string(replaced) + " of " +
 									 std::to_string(stock.size()) + " stock hinges");

@@ -185,7 +185,7 @@ Metrics runScene(const SceneSpec& scene, Kind kind, const RunSettings& settings)
 		if (scale == 0) scale = 1;
 	}
 	JointErrorStats errors;
-	double maxEnergy = 0, sumTraj2 = 0, maxTraj = 0;
+	double maxEnergy = 0, maxTraj = 0;
 	long rows = 0;
 	PeriodMeter period;
 	double wall = 0, cpu = 0;
@@ -262,7 +262,6 @@ Metrics runScene(const SceneSpec& scene, Kind kind, const RunSettings& settings)
 			for (size_t k = 0; k < a.size(); ++k)
 				for (int c = 0; c < 3; ++c) err2 += (double(a[k][c]) - b[3 * k + size_t(c)]) * (double(a[k][c]) - b[3 * k + size_t(c)]);
 			const double err = std::sqrt(err2 / double(std::max<size_t>(1, a.size())));
-			sumTraj2 += err * err;
 			maxTraj = std::max(maxTraj, err);
 		}
 		if (perSample > 0 && i % perSample == 0 && size_t(i / perSample) <= common.samples.size())

@@ -92,6 +92,20 @@ std::string defaultModelsDir()
 	return QUATHINGE_SOURCE_MODELS_DIR;  // the build tree: this source tree's demos/models
 }
 
+std::string manualDir()
+{
+	// An installed program: <prefix>/bin/quathinge-compare finds <prefix>/share/doc/quathinge/docs (QuatHingeInstall.cmake).
+	std::error_code error;
+	const std::filesystem::path exe = std::filesystem::read_symlink("/proc/self/exe", error);
+	if (!error)
+	{
+		const std::filesystem::path installed =
+			exe.parent_path().parent_path() / "share" / "doc" / "quathinge" / "docs";
+		if (std::filesystem::is_directory(installed, error)) return installed.string();
+	}
+	return QUATHINGE_SOURCE_DOCS_DIR;  // the build tree: this source tree's docs
+}
+
 SceneSpec makeScene(const std::string& name, unsigned seed, const std::string& modelsArgument)
 {
 	const std::string modelsDir = modelsArgument.empty() ? defaultModelsDir() : modelsArgument;

@@ -145,6 +145,9 @@ std::vector<std::string> sceneNames();
 /// Where the models (URDF, .bullet) are: $QUATHINGE_MODELS_DIR when set; else `share/quathinge/models` beside the
 /// installed program (`<prefix>/bin/../share/quathinge/models`) when it exists; else the source tree's demos/models.
 std::string defaultModelsDir();
+/// Where the manual (docs/*.md) is, for the programs' --help: `share/doc/quathinge/docs` beside the installed program
+/// (`<prefix>/bin/../share/doc/quathinge/docs`) when it exists; else the source tree's docs/.
+std::string manualDir();
 /// The scene of that name (throws std::invalid_argument for an unknown name). `modelsDir` is where the models are
 /// (URDF, .bullet; empty: defaultModelsDir()); `seed` drives any randomness.
 SceneSpec makeScene(const std::string& name, unsigned seed = 1, const std::string& modelsDir = "");

@@ -30,7 +30,9 @@ int main(int argc, char** argv)
 	int jobs = 1;
 	std::string out = "sweep.csv", models;
 	bool analysis = false, matched = false;
-	app.add_option("-s,--scenes", sceneList, "scene names (quathinge-compare --list), inertia_ratio_<N> for the family")
+	app.add_option("-s,--scenes", sceneList,
+				   "scene names (quathinge-compare --list), inertia_ratio_<N> for the family: -s a b or --scenes a,b")
+		->delimiter(',')
 		->capture_default_str();
 	app.add_option("-b,--bases", basisList,
 				   "row bases of the bare quaternion hinge (radial world heavy decoupled jointframe radial-turned "
@@ -48,6 +50,11 @@ int main(int argc, char** argv)
 	app.add_flag("--matched", matched,
 				 "write matched-state runs instead: stock and each basis stepped from the same states, on each one's "
 				 "trajectory (the rows compared without the trajectories they lead to)");
+	app.footer(
+		"Example: the bare quaternion hinge's radial basis against stock on Gazebo's inertia-ratio pendulum:\n"
+		"  quathinge-sweep -s inertia_ratio -b stock radial -i 10 20 -o sweep.csv\n"
+		"The manual (ROW_BASIS.md: the bases and this sweep's tables) is in " +
+		manualDir());
 	CLI11_PARSE(app, argc, argv);
 	if (models.empty()) models = defaultModelsDir();
 

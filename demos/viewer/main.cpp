@@ -3,7 +3,7 @@
 // controls for scene, kinds, step, iterations, pause, single step and reset, mouse picking (a btPoint2PointConstraint
 // dragged with the left button, as Bullet's example browser does) and the joints' own debug drawing.
 //
-//   quathinge-viewer [--scene heavy1000] [--kinds stock,quaternion+stab] [--dt 0.0166667] [--iterations 10]
+//   quathinge-viewer [--scenes heavy1000] [--kinds stock,quaternion+stab] [--dt 0.0166667] [--iterations 10]
 //   quathinge-viewer --screenshot out.png --frames 120      renders headless (xvfb-run) after 120 steps and exits
 //   quathinge-viewer --strip out.png --strip-frames 30,60,90,120 --no-ui   one frame per listed step, stacked
 //
@@ -41,8 +41,11 @@ int main(int argc, char** argv)
 {
 	Options o;
 	CLI::App app{"quathinge-viewer: joint kinds side by side on the scene library"};
-	app.add_option("--scene", o.scene, "scene name (quathinge-compare --list shows them)")->capture_default_str();
-	app.add_option("--kinds", o.kinds, "joint kinds side by side, comma-separated (below)")->delimiter(',')->capture_default_str();
+	app.add_option("-s,--scenes,--scene", o.scene, "the scene's name (quathinge-compare --list shows them)")
+		->capture_default_str();
+	app.add_option("-k,--kinds", o.kinds, "joint kinds side by side (below): -k a b or --kinds a,b")
+		->delimiter(',')
+		->capture_default_str();
 	app.add_option("--dt", o.dt, "time step (s)")->capture_default_str();
 	app.add_option("--iterations", o.iterations, "solver iterations")->capture_default_str();
 	app.add_option("--models", o.models, "directory of the models (default: as quathinge-compare --help says)");
@@ -62,7 +65,10 @@ int main(int argc, char** argv)
 		"Mouse: left drag pulls the body under the cursor (a btPoint2PointConstraint, as Bullet's example "
 		"browser does); right drag orbits the camera; the wheel zooms. The panel sets scene, kinds, step, "
 		"iterations, pause, single step, reset and the stabilizer's options.\n\nJoint kinds (--kinds):" +
-		kindsHelp() + "\n\nExample: quathinge-viewer --scene chain30 --kinds stock,quaternion,quaternion+stab");
+		kindsHelp() +
+		"\n\nExample: quathinge-viewer --scenes chain30 --kinds stock,quaternion,quaternion+stab\n\nThe manual "
+		"(DEMOS.md: the viewer and the other programs) is in " +
+		manualDir());
 	CLI11_PARSE(app, argc, argv);
 	o.height = o.width * 9 / 16;
 	const bool headless = !o.screenshot.empty() || !o.strip.empty();

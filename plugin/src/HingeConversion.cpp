@@ -89,8 +89,22 @@ void btSwapConstraintInWorld(btDynamicsWorld* world, btTypedConstraint* constrai
 	world->addConstraint(last, lastDisablesCollisions);
 }
 
-int btReplaceHingeConstraints(btDynamicsWorld* world, btAlignedObjectArray<btQuaternionHingeConstraint*>* added,
-							  btAlignedObjectArray<btHingeConstraint*>* removedStock)
+namespace
+{
+bool listed(const btAlignedObjectArray<btTypedConstraint*>* list, const btTypedConstraint* constraint)
+{
+	if (!list) return false;
+	for (int i = 0; i < list->size(); ++i)
+		if ((*list)[i] == constraint) return true;
+	return false;
+}
+
+// Replaces the world's stock hinges; each removed one goes to *yours unless it is listed in *ownedElsewhere, and to
+// *every (the deprecated form's list) in any case. Deletes none of them: this function did not allocate them.
+int replaceHinges(btDynamicsWorld* world, btAlignedObjectArray<btQuaternionHingeConstraint*>* added,
+				  btAlignedObjectArray<btHingeConstraint*>* yours,
+				  const btAlignedObjectArray<btTypedConstraint*>* ownedElsewhere,
+				  btAlignedObjectArray<btHingeConstraint*>* every)
 {
 	btAlignedObjectArray<btHingeConstraint*> stockHinges;
 	for (int i = 0; i < world->getNumConstraints(); ++i)
@@ -109,9 +123,28 @@ int btReplaceHingeConstraints(btDynamicsWorld* world, btAlignedObjectArray<btQua
 				: new btQuaternionHingeConstraint(*stock);
 		btSwapConstraintInWorld(world, stock, replacement);  // in the stock hinge's place
 		if (added) added->push_back(replacement);
-		// never deleted here: this function did not allocate it (a world importer owns the hinges it loaded and deletes
-		// them in deleteAllData; an app deletes its own)
-		if (removedStock) removedStock->push_back(stock);
+		// a world importer owns the hinges it loaded and deletes them in deleteAllData; an app deletes its own
+		if (yours && !listed(ownedElsewhere, stock)) yours->push_back(stock);
+		if (every) every->push_back(stock);
 	}
 	return stockHinges.size();
+}
+}  // namespace
+
+int btReplaceHingeConstraints(btDynamicsWorld* world, btAlignedObjectArray<btQuaternionHingeConstraint*>* added)
+{
+	return replaceHinges(world, added, 0, 0, 0);
+}
+
+int btReplaceHingeConstraints(btDynamicsWorld* world, btAlignedObjectArray<btQuaternionHingeConstraint*>* added,
+							  btAlignedObjectArray<btHingeConstraint*>* removedYours,
+							  const btAlignedObjectArray<btTypedConstraint*>* ownedElsewhere)
+{
+	return replaceHinges(world, added, removedYours, ownedElsewhere, 0);
+}
+
+int btReplaceHingeConstraints(btDynamicsWorld* world, btAlignedObjectArray<btQuaternionHingeConstraint*>* added,
+							  btAlignedObjectArray<btHingeConstraint*>* removedStock)
+{
+	return replaceHinges(world, added, 0, 0, removedStock);
 }

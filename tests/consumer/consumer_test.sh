@@ -90,4 +90,18 @@ elif [ -x "$prefix/bin/quathinge-compare" ]; then
     fail "quathinge-compare did not look for its models in $models: $(grep pendulum5 "$scratch/compare.log")"
   echo "programs:   bin/quathinge-compare ran pendulum5 from $models (and missed it there once removed)"
 fi
+# ---- the installed manual, named by the installed programs' --help (share/doc/quathinge: QuatHingeInstall.cmake)
+if [ -x "$prefix/bin/quathinge-compare" ]; then
+  doc=$prefix/share/doc/quathinge
+  for page in README.md docs/PEERS.md docs/ENERGY.md docs/images/error_vs_time.png hello/hello.cpp; do
+    [ -f "$doc/$page" ] || fail "the install has no $doc/$page"
+  done
+  for program in quathinge-compare quathinge-bench quathinge-sweep; do
+    [ -x "$prefix/bin/$program" ] || fail "$program not installed"
+    help=$("$prefix/bin/$program" --help 2>&1) || fail "installed $program --help failed: $help"
+    grep -q "is in $(cd "$doc/docs" && pwd -P)\$" <<<"$help" ||
+      fail "installed $program --help does not name the installed manual $doc/docs"
+  done
+  echo "programs:   the manual installed in $doc, named by the installed programs' --help"
+fi
 echo "consumer_test: package found, consumer ran with sizeof(btScalar)=$want (CMake and pkg-config), mixed precision refused"

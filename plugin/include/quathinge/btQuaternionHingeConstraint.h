@@ -491,10 +491,37 @@ QUATHINGE_API void btSwapConstraintInWorld(btDynamicsWorld* world, btTypedConstr
 /// hinge's place in the world's constraint order (the order the solver meets them in), with the same
 /// disableCollisionsBetweenLinkedBodies choice as far as the world can tell it; the other constraints keep their
 /// places and choices too. Returns how many it replaced. It deletes nothing: the replacements (new'd here) are the
-/// caller's, appended to *added (if not null), to remove from the world and delete before the bodies go; the removed
-/// stock hinges stay with whoever allocated them, appended to *removedStock (if not null) so the caller can delete its
-/// own (a btBulletWorldImporter's are deleted by its deleteAllData()).
-QUATHINGE_API int btReplaceHingeConstraints(btDynamicsWorld* world, btAlignedObjectArray<btQuaternionHingeConstraint*>* added = 0,
-											btAlignedObjectArray<btHingeConstraint*>* removedStock = 0);
+/// caller's, appended to *added (if not null), to remove from the world and delete before the bodies go. The stock
+/// hinges taken out stay alive with whoever allocated them (a btBulletWorldImporter deletes its own in
+/// deleteAllData()); to get back the ones to delete, use the overload with `removedYours`.
+///
+///     btAlignedObjectArray<btQuaternionHingeConstraint*> added;
+///     btReplaceHingeConstraints(world, &added);
+QUATHINGE_API int btReplaceHingeConstraints(btDynamicsWorld* world,
+											btAlignedObjectArray<btQuaternionHingeConstraint*>* added = 0);
+
+/// As btReplaceHingeConstraints(world, added), and appends to *removedYours (if not null) the stock hinges taken out
+/// that the caller must delete: every one except those listed in *ownedElsewhere (if not null), which stay with their
+/// owner. A world that a btBulletWorldImporter loaded (wholly or in part): pass the importer instead, the overload in
+/// quathinge/btQuaternionHingeWorldImporter.h, which lists its constraints here; its hinges are deleted once, by its
+/// deleteAllData(). A world whose hinges your app allocated: ownedElsewhere null.
+///
+///     btAlignedObjectArray<btQuaternionHingeConstraint*> added;   // yours: remove and delete before the bodies
+///     btAlignedObjectArray<btHingeConstraint*> removed;           // yours: delete after the call
+///     btReplaceHingeConstraints(world, &added, &removed, nullptr);
+///     for (int i = 0; i < removed.size(); ++i) delete removed[i];
+QUATHINGE_API int btReplaceHingeConstraints(btDynamicsWorld* world,
+											btAlignedObjectArray<btQuaternionHingeConstraint*>* added,
+											btAlignedObjectArray<btHingeConstraint*>* removedYours,
+											const btAlignedObjectArray<btTypedConstraint*>* ownedElsewhere);
+
+/// Deprecated: appends every stock hinge taken out to *removedStock, whoever owns it, so that deleting them all is a
+/// double free on a world a btBulletWorldImporter loaded. Use the overload with `removedYours` (and the importer, or
+/// nullptr when your app allocated every hinge).
+[[deprecated(
+	"btReplaceHingeConstraints(world, added, removedYours, importer or nullptr): removedStock mixes the "
+	"hinges you delete with an importer's")]] QUATHINGE_API int
+btReplaceHingeConstraints(btDynamicsWorld* world, btAlignedObjectArray<btQuaternionHingeConstraint*>* added,
+						  btAlignedObjectArray<btHingeConstraint*>* removedStock);
 
 #endif  // BT_QUATERNION_HINGE_CONSTRAINT_H

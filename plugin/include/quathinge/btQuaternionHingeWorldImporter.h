@@ -155,4 +155,25 @@ private:
 	int m_numRefused = 0;
 };
 
+/// btReplaceHingeConstraints (quathinge/btQuaternionHingeConstraint.h) on a world that `importer` loaded, wholly or in
+/// part: every stock hinge in the world is replaced; *removedYours (if not null) gets only the stock hinges taken out
+/// that the importer does not own (those your app added), for you to delete. The importer's stay its own: its
+/// deleteAllData() deletes them, once. The replacements in *added are yours (remove and delete them before
+/// deleteAllData() deletes the bodies).
+///
+///     btBulletWorldImporter importer(world);
+///     importer.loadFile("scene.bullet");
+///     btAlignedObjectArray<btQuaternionHingeConstraint*> added;
+///     btAlignedObjectArray<btHingeConstraint*> removed;
+///     btReplaceHingeConstraints(world, &added, &removed, importer);  // removed: none of the importer's
+inline int btReplaceHingeConstraints(btDynamicsWorld* world, btAlignedObjectArray<btQuaternionHingeConstraint*>* added,
+									 btAlignedObjectArray<btHingeConstraint*>* removedYours,
+									 const btWorldImporter& importer)
+{
+	btAlignedObjectArray<btTypedConstraint*> owned;
+	owned.reserve(importer.getNumConstraints());
+	for (int i = 0; i < importer.getNumConstraints(); ++i) owned.push_back(importer.getConstraintByIndex(i));
+	return btReplaceHingeConstraints(world, added, removedYours, &owned);
+}
+
 #endif  // BT_QUATERNION_HINGE_WORLD_IMPORTER_H
