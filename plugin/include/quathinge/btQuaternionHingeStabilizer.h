@@ -243,8 +243,8 @@ struct QUATHINGE_STABILIZER_API btQuaternionHingeStabilizerFilter
 /// (projectPointConstraints), sliders and welds (projectLockedConstraints) and contacts as one-sided rows
 /// (projectContacts), grouped into islands of joints that share movable bodies; a filter (setFilter) narrows them.
 /// \code
-/// btQuaternionHingeStabilizer stabilizer;  // settings: btQuaternionHingeStabilizerSettings
-/// world->addAction(&stabilizer);           // it must outlive its place in the world
+/// btQuaternionHingeStabilizer stabilizer;   // settings: btQuaternionHingeStabilizerSettings
+/// world->addAction(&stabilizer);            // it must outlive its place in the world
 /// world->stepSimulation(btScalar(1) / 60);  // getLastStats() says what the last internal step did
 /// world->removeAction(&stabilizer);
 /// \endcode
