@@ -1,4 +1,5 @@
-// An island of quaternion hinges, as the stabilizer holds it between steps (docs/MATH.md Q13, Q14).
+// An island of the joints the stabilizer holds (hinges of every kind, and the point, locked and contact rows its
+// options add), as it keeps it between steps (docs/MATH.md Q13, Q14).
 //
 // Discovery: every enabled btQuaternionHingeConstraint of the world with at least one movable body (dynamic and
 // active; static, kinematic and sleeping bodies are fixed: infinite mass, never moved), with projectPointConstraints

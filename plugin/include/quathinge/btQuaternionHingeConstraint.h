@@ -1,11 +1,7 @@
-/*
-QuatHinge — a quaternion hinge constraint for the Bullet physics engine.
+/** \file
+The quaternion hinge: btQuaternionHingeConstraint, its turn-counting subclass, and the calls that upgrade a world's
+stock hinges (btReplaceHingeConstraints, btSwapConstraintInWorld).
 
-btQuaternionHingeConstraint is a drop-in replacement for btHingeConstraint (same constructors, methods and sign
-conventions; the differences: docs/MIGRATING.md). Its two angular rows are the exact derivative of the
-relative-quaternion hinge equations (MATH.md Q2–Q10), at full strength at every hinge angle; its limits act on a
-multi-turn angle; it adds a position servo, a spring-damper in hertz and joint friction; it reports only the rows it
-needs (5 bare, 2 angular-only, a limit or drive row only while active).
 Errors: what has no meaning (NaN/Inf, a zero axis, the same body twice, a negative impulse) is refused, naming the
 function and parameter: std::invalid_argument, or the error callback without exceptions (btQuaternionHingeErrors.h).
 Nothing invalid is stored; no const method throws; a body's non-finite state found in getInfo1 disables the joint
@@ -20,6 +16,7 @@ with a reason (getFault()).
 #include "BulletDynamics/ConstraintSolver/btTypedConstraint.h"
 #include "quathinge/quathinge_export.h"
 #include "btQuaternionHingeErrors.h"
+#include "btQuaternionHingeSettings.h"
 
 class btHingeConstraint;
 class btDynamicsWorld;
@@ -36,103 +33,18 @@ class btIDebugDraw;
 /// 15 are the unused ones above MAX_CONSTRAINT_TYPE (13).
 const btTypedConstraintType QUATERNION_HINGE_CONSTRAINT_TYPE = btTypedConstraintType(MAX_CONSTRAINT_TYPE + 2);
 
-/// How the axial drive row (at most one) behaves.
-enum btQuaternionHingeDriveMode : int  // fixed type: a corrupt value in a settings struct is defined, and refused
-{
-	BT_QHINGE_DRIVE_OFF = 0,       ///< no drive row
-	BT_QHINGE_DRIVE_VELOCITY = 1,  ///< btHingeConstraint's angular motor: target velocity, maximum impulse per step
-	BT_QHINGE_DRIVE_SERVO = 2,     ///< holds a target (multi-turn) angle with a maximum speed and a maximum torque
-	BT_QHINGE_DRIVE_SPRING = 3     ///< implicit spring-damper toward a rest angle, set by frequency and damping ratio
-};
-
-/// Bits of getFlags(): which per-joint ERP/CFM values override the solver's globals (btHingeFlags' meaning, extended
-/// per row). Bit (BT_QHINGE_FLAGS_ERP_ROW0 << r) / (BT_QHINGE_FLAGS_CFM_ROW0 << r) is row kind r (0..5, see setParam).
-enum btQuaternionHingeFlags
-{
-	BT_QHINGE_FLAGS_CFM_STOP = 1,  ///< same value as BT_HINGE_FLAGS_CFM_STOP
-	BT_QHINGE_FLAGS_ERP_STOP = 2,  ///< same value as BT_HINGE_FLAGS_ERP_STOP
-	BT_QHINGE_FLAGS_CFM_NORM = 4,  ///< same value as BT_HINGE_FLAGS_CFM_NORM: some row has its own CFM
-	BT_QHINGE_FLAGS_ERP_NORM = 8,  ///< same value as BT_HINGE_FLAGS_ERP_NORM: some row has its own ERP
-	BT_QHINGE_FLAGS_ERP_ROW0 = 16,
-	BT_QHINGE_FLAGS_CFM_ROW0 = 16 << 6
-};
-
-/// Why a joint disabled itself (getFault()).
-enum btQuaternionHingeFault
-{
-	BT_QHINGE_FAULT_NONE = 0,
-	BT_QHINGE_FAULT_NONFINITE_BODY_STATE = 1,  ///< a body's transform or velocity was NaN/Inf when the solver asked for rows
-	BT_QHINGE_FAULT_NO_DYNAMIC_BODY = 2,       ///< both bodies have zero inverse mass and inertia: no row can act
-	BT_QHINGE_FAULT_FRAME_EDITED_INVALID = 3,  ///< a frame edited through a non-const reference is not a rigid transform
-	/// a constructor refused its arguments in a build without exceptions (btQuaternionHingeErrors.h): the joint stays
-	/// disabled with no rows; clearFault() does not clear it
-	BT_QHINGE_FAULT_INVALID_ARGUMENT = 4
-};
-
-/// The joint's whole configuration: a plain struct with defaults. Angles are in the getHingeAngle() convention
-/// (radians; sign as btHingeConstraint's). A live joint hands its settings back (getSettings()), and a joint can be
-/// built from them (constructor below), which is how serialization restores it.
-struct btQuaternionHingeSettings
-{
-	/// Joint frames in body A's and body B's local (centre-of-mass) frames. Origin: the pivot (m). Basis: orthonormal,
-	/// right-handed; its z column is the hinge axis, x and y span the plane orthogonal to it (MATH.md, Notation).
-	btTransform frameInA = btTransform::getIdentity();
-	btTransform frameInB = btTransform::getIdentity();  ///< Joint frame in body B's local frame (as frameInA).
-	/// btHingeConstraint's useReferenceFrameA: false makes getHingeAngle() the negative of the quaternion angle θ (Q11).
-	bool useReferenceFrameA = false;
-	/// Only the two angular rows (no point-to-point rows): the joint aligns axes but does not hold the pivot.
-	bool angularOnly = false;
-	/// Kept for btHingeConstraint source compatibility; the quaternion rows have a single exact form, so both values
-	/// give the same rows (docs/MIGRATING.md).
-	bool useFrameOffset = true;
-
-	/// Limit on the multi-turn angle (rad). hasLimit: the limit acts (then lowerLimit ≤ upperLimit; the range may be
-	/// wider than 2π and may straddle ±π; lowerLimit == upperLimit locks the hinge; a range of exactly 2π never acts,
-	/// as stock's: setLimit leaves hasLimit false for it). Without it the values are kept as
-	/// given (stock's never-limited hinge reports 1 and −1, and so do these defaults).
-	bool hasLimit = false;
-	btScalar lowerLimit = 1;   ///< Lower end of the limit (rad, multi-turn angle).
-	btScalar upperLimit = -1;  ///< Upper end of the limit (rad, multi-turn angle).
-	/// Any finite value, used within [0, 1]: the limit row is switched on speculatively once the angle is within
-	/// (1 − softness)·(upper − lower)/2 of a stop; until the stop is reached it only forbids crossing it within the
-	/// step. 1: row only at or past the stop. (Stock stores it and never uses it.)
-	btScalar limitSoftness = btScalar(0.9f);  // stock's float literals (0.9f, 0.3f), the same bits in a double build
-	/// Any value within ±1e3 (0.3 by default; stock documents it as a fraction and stores anything). Multiplies the
-	/// limit row's error correction and bounce.
-	btScalar limitBiasFactor = btScalar(0.3f);
-	/// Any value within ±1e3: bounce on hitting a stop when > 0; restitution = bias · relaxation.
-	btScalar limitRelaxationFactor = btScalar(1.0);
-
-	/// Which drive acts along the axis: none, velocity motor, servo or spring.
-	btQuaternionHingeDriveMode driveMode = BT_QHINGE_DRIVE_OFF;
-	/// Velocity drive: target angular velocity (rad/s) and maximum impulse per step (N·m·s, ≥ 0), as btHingeConstraint.
-	btScalar motorTargetVelocity = 0;
-	btScalar maxMotorImpulse = 0;  ///< Velocity drive: maximum impulse per step (N·m·s, ≥ 0).
-	/// Servo: target multi-turn angle (rad), maximum speed (rad/s, > 0), maximum torque (N·m, ≥ 0).
-	btScalar servoTargetAngle = 0;
-	btScalar servoMaxSpeed = SIMD_INFINITY;   ///< Servo: maximum speed (rad/s, > 0).
-	btScalar servoMaxTorque = SIMD_INFINITY;  ///< Servo: maximum torque (N·m, ≥ 0).
-	/// Spring: rest angle (rad), frequency (Hz, > 0), damping ratio (≥ 0; 1 is critical).
-	btScalar springRestAngle = 0;
-	btScalar springFrequency = 1;     ///< Spring: frequency (Hz, > 0).
-	btScalar springDampingRatio = 1;  ///< Spring: damping ratio (≥ 0; 1 is critical).
-	/// Joint friction: maximum friction torque (N·m, ≥ 0); 0 is off (no row).
-	btScalar maxFrictionTorque = 0;
-
-	/// Per-row ERP/CFM overrides; a row kind uses the solver's global value unless its bit is set in flags.
-	/// Row kinds: 0..2 linear, 3..4 angular (quaternion), 5 axial (drive). STOP values act on the limit row.
-	btScalar rowErp[6] = {0, 0, 0, 0, 0, 0};
-	/// Per-row-kind CFM overrides (row kinds as rowErp), used where flags has the kind's CFM bit.
-	btScalar rowCfm[6] = {0, 0, 0, 0, 0, 0};
-	btScalar stopErp = 0;  ///< ERP of the limit row (setParam(BT_CONSTRAINT_STOP_ERP)), used when flags has its bit.
-	btScalar stopCfm = 0;  ///< CFM of the limit row (setParam(BT_CONSTRAINT_STOP_CFM)), used when flags has its bit.
-	int flags = 0;         ///< Which overrides are set: BT_QHINGE_FLAGS_* bits (as btHingeFlags for stock's).
-};
-
-/// A hinge for Bullet whose two angular rows come from the relative quaternion of the joint frames (MATH.md
-/// Q2–Q12): a drop-in replacement for btHingeConstraint with stock's constructors and methods, limits on a multi-turn
-/// angle, a servo, a spring, joint friction and per-row ERP/CFM. It is not a btHingeConstraint: identify one with
-/// upcast(). Bad input is refused, naming the parameter (btQuaternionHingeErrors.h).
+/// A drop-in replacement for btHingeConstraint (stock's constructors, methods and sign conventions) whose two angular
+/// rows are the exact derivative of the relative quaternion of the joint frames (MATH.md Q2–Q12), at full strength at
+/// every angle; limits on a multi-turn angle, a servo, a spring in hertz, joint friction and per-row ERP/CFM. It
+/// reports only the rows it needs (5 bare, 2 angular-only, a limit or drive row only while active). It is not a
+/// btHingeConstraint: identify one with upcast().
+/// \code
+/// btQuaternionHingeConstraint* hinge = new btQuaternionHingeConstraint(*a, *b, btVector3(0, -1, 0), btVector3(0, 1, 0),
+///                                                                      btVector3(0, 0, 1), btVector3(0, 0, 1));
+/// hinge->setLimit(-SIMD_HALF_PI, SIMD_HALF_PI);  // radians; a multi-turn range may be wider than 2π
+/// world->addConstraint(hinge, true);             // the app owns it: remove and delete it before its bodies
+/// \endcode
+/// More: docs/MIGRATING.md (from stock, the differences), docs/MATH.md (the rows), README.md (a complete program).
 ATTRIBUTE_ALIGNED16(class)
 QUATHINGE_API btQuaternionHingeConstraint : public btTypedConstraint
 {
@@ -446,8 +358,14 @@ private:
 /// is the multi-turn angle (getMultiTurnAngle: getHingeAngle's sign), tracked from construction on as stock's is.
 /// One difference, deliberate: stock's update starts again from the wrapped angle whenever the hinge turned more than
 /// 0.3 rad since the last update (a hinge turning faster than 18 rad/s at 60 Hz loses its count); the multi-turn
-/// angle follows any turn of less than π per step. As with stock, the limit is not affected by this class (the
-/// quaternion hinge's limit always acts on the multi-turn angle).
+/// angle follows any turn of less than π per step. As with stock, the limit is not affected by this class.
+/// \code
+/// btQuaternionHingeAccumulatedAngleConstraint* wheel = new btQuaternionHingeAccumulatedAngleConstraint(
+///     *a, *b, btVector3(0, -1, 0), btVector3(0, 1, 0), btVector3(0, 0, 1), btVector3(0, 0, 1));
+/// world->addConstraint(wheel, true);
+/// std::printf("%.2f turns\n", double(wheel->getAccumulatedHingeAngle() / SIMD_2_PI));  // turns since construction
+/// \endcode
+/// More: docs/MIGRATING.md.
 ATTRIBUTE_ALIGNED16(class)
 QUATHINGE_API btQuaternionHingeAccumulatedAngleConstraint : public btQuaternionHingeConstraint
 {

@@ -1,5 +1,5 @@
-/*
-QuatHinge — how refused calls report their error.
+/** \file
+How refused calls report their error: an exception, or the error callback set here.
 
 Every constructor and setter of QuatHinge checks its arguments and refuses what has no meaning (NaN/Inf, a zero axis,
 the same body twice, a negative impulse, …); the message names the function and the parameter
@@ -16,13 +16,19 @@ No const method reports or throws in either build (getParam of an unknown parame
 
 The callback is process-wide (C style: a function pointer and a user pointer, as Bullet's own hooks). Set it before
 joints are used from several threads; it may be called from any thread that calls a QuatHinge setter.
+
+\code
+btQuaternionHingeSetErrorCallback([](const char* message, void*) { std::fprintf(stderr, "%s\n", message); }, nullptr);
+btQuaternionHingeSetErrorCallback(nullptr, nullptr);  // back to the default (printf)
+\endcode
+More: docs/MIGRATING.md, "Bad input".
 */
 #ifndef BT_QUATERNION_HINGE_ERRORS_H
 #define BT_QUATERNION_HINGE_ERRORS_H
 
-/// Receives one refusal: the message (one line, no newline) and the user pointer given with the callback.
 #include "quathinge/quathinge_export.h"
 
+/// Receives one refusal: the message (one line, no newline) and the user pointer given with the callback.
 typedef void (*btQuaternionHingeErrorCallback)(const char* message, void* userPointer);
 
 /// Installs `callback` (with `userPointer` handed back to it); null restores the default.

@@ -1,4 +1,4 @@
-/*
+/** \file
 The serialized form of btQuaternionHingeConstraint: two chunks, so that a stock Bullet reads the file as it reads any.
 
 btQuaternionHingeConstraint::serialize (a thin call of btQuaternionHingeSerialize below) writes
@@ -17,6 +17,13 @@ A float build's file read by a double build and the reverse: the joint chunk is 
 QuatHinge chunk is the same in both (values rounded to the reader's btScalar; SIMD_INFINITY — an unbreakable joint, an
 uncapped servo — is stored as +∞ and read back as the reader's SIMD_INFINITY); tests/test_serialize_file.cpp loads
 files written by both builds (tests/data/) in each.
+
+\code
+btDefaultSerializer serializer;
+world->serialize(&serializer);  // each quaternion hinge: its stock chunk and its QuatHinge chunk
+\endcode
+Loading them back: btQuaternionHingeWorldImporter (btQuaternionHingeWorldImporter.h). More: docs/STABILIZER.md,
+"Upgrading a world, and files".
 */
 #ifndef BT_QUATERNION_HINGE_SERIALIZATION_H
 #define BT_QUATERNION_HINGE_SERIALIZATION_H

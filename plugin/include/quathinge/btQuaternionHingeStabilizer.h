@@ -1,93 +1,8 @@
-/*
-QuatHinge — drift-free quaternion hinges by post-stabilization (docs/MATH.md, "Beyond the rows", Q13, Q14).
-
-btQuaternionHingeStabilizer is a btActionInterface. Add it to a world (world->addAction(&stabilizer)); Bullet then
-calls updateAction after integrating the transforms in every internal step (sub-steps included), and the stabilizer
-projects the bodies held by btQuaternionHingeConstraints back onto their joints:
-
-  (Q13) positions:  Newton on C(x) = 0 with the exact Jacobian J (btQuaternionHingeConstraint::computePositionRows):
-                    K = J M⁻¹ Jᵀ,  K λ = −C,  Δx = M⁻¹ Jᵀ λ  (a body turns by the world-frame rotation Δθ:
-                    q ← normalize(q + ½ Δθ ⊗ q)), until ‖C‖∞ ≤ positionTolerance (or the precision's rounding
-                    floor), the iteration cap, or no further progress;
-  (Q14) velocities: v ← v − M⁻¹ Jᵀ K⁻¹ J v with J at the projected positions (Cline & Pai, ICRA 2003);
-  (Q15–Q19, docs/ENERGY.md) by default the projection does no work (keepEnergyAndMomentum): each island's kinetic
-                    energy is then set so that its energy is what Bullet's step left (the position correction's lift of
-                    the solver's sag paid for, the joints' curvature losses given back), and a free island keeps its
-                    linear momentum.
-
-What it projects. Every hinge of the world, with no class swapped: btQuaternionHingeConstraints
-(btQuaternionHingeConstraint::upcast), and, with projectStockHinges and projectDofHinges (both on by default), stock
-btHingeConstraints and btHingeAccumulatedAngleConstraints and 6-dofs set up as hinges (btGeneric6DofSpring2Constraint,
-btGeneric6DofConstraint: linear axes locked, one angular axis free or limited, the others locked at 0) — each as its
-two joint frames, on which the quaternion hinge's own rows are evaluated, with a limit row of the joint's own limit
-meaning (docs/STABILIZED_JOINTS.md). Only those that
-are enabled (a disabled or broken joint is skipped), have at least one movable body and, when a filter is set
-(setFilter), are kept by it; with projectPointConstraints, also the pivots of btPoint2PointConstraints,
-btConeTwistConstraints and 6-dofs with their linear axes locked (three point rows each); with
-projectLockedConstraints, also 6-dofs with their angles locked at 0, sliders and welds (a row per locked linear axis
-and three angular rows). A movable body is dynamic and
-active: static and kinematic bodies (infinite mass) and sleeping bodies are never moved, and do not connect islands.
-The joints are grouped into islands (connected through shared movable bodies); each island is solved on its own.
-Rows: the joint's bilateral rows (3 linear + 2 quaternion, 2 when angular-only) and, for a joint with a limit, one
-row along the hinge axis while the multi-turn angle is past a stop: an inequality, projected only when violated
-(then held at the stop for the rest of the step), its velocity only while it still moves past the stop. For such a
-joint the stabilizer reads getMultiTurnAngle(), which keeps the joint tracking its angle (as its limit needs anyway).
-Drives (motor, servo, spring) and friction are never projected: their row is along the hinge axis, which the
-bilateral rows leave free, so the projection does not undo a drive's work.
-Other constraint types (and, unless projectPoint/LockedConstraints is on, point constraints and locked 6-dofs) and,
-unless projectContacts is
-on, contacts are not seen as rows. A ragdoll lying on the ground can therefore be pushed into
-the ground, by at most the correction it receives (the position error the solver left, typically well below a
-millimetre); the contact solver pushes it out again in the next step. To keep that small, a body touching something
-outside its island (a contact at zero distance or deeper, read from the dispatcher's manifolds) takes a tenth of its
-share of the position correction's first, weighted Newton steps, so that the free parts move instead. Measured on
-Bullet's RagdollDemo ragdolls (their cone twists and contacts; tests/test_stabilizer_mixed.cpp, float): the ground
-penetration of ragdolls at rest, 4.1e-3 m without the stabilizer, was 9.6e-3 m with it and is 4.8e-3 m; the
-cone twists' separation is the same with and without it (1.0e-2 and 9.1e-3 m; stock 1.0e-2).
-
-Closed loops and redundant joints (a four-bar linkage, two hinges on one axis) make K singular: it is regularized by
-regularization · (trace K / rows) on its diagonal, so the projection stays finite (never NaN) and converges to the
-least-squares correction. The position correction is measured in M with every inertia multiplied by
-positionRotationWeight (30 by default): it moves bodies along rather than turning them, because a move enters the point
-rows linearly and a turn does not — in the mass metric a long chain or light links under a heavy load are corrected by
-swinging the light links, which second-order terms undo, and Newton falls short (a 1:10000 load tore its chain apart;
-with the weight it stays on its joints). Far from the solution in a nearly singular pose a full Newton step can still
-overshoot: a step that makes ‖C‖ worse is halved, then undone, so the projection never leaves a pose worse than it
-found it. When the weighted step fails or barely gains, the
-position correction switches, for the rest of the step, to a "stiff" metric, M + M_ref with M_ref the island's
-heaviest mass and inertia: it no longer prefers moving the light bodies a long way and moves the heavy ones as
-readily. The velocity projection always uses M (momentum is conserved), so in a step whose positions were corrected
-in another metric the velocities get a factorization of their own.
-
-How it solves. K is assembled in place from dense blocks (a joint's rows: 5, or 6 in an island with a limit; one
-block per pair of joints on a common movable body). For an island without closed loops (chains, ragdolls, any open linkage, joints to the world
-included) the joints are numbered along the tree of bodies, leaves first, which is a perfect elimination order: a
-block LDLᵀ without fill, linear in the number of joints (Baraff, SIGGRAPH 1996). An island with a closed loop is
-factorized by Eigen's SimplicialLDLT (AMD ordering). The structure (islands, numbering, pattern, symbolic analysis)
-is built once and reused while the joints and their bodies stay the same; a step with an unchanged structure
-allocates nothing (the sparse path aside: Eigen's factorization allocates its permuted copy). A factorization is
-reused for later Newton steps while the bodies have moved little since it was made (a chain's K is ill-conditioned,
-so "little" is ~1e-4). A typical step costs two factorizations, two or three evaluations of the rows and three
-solves: the first Newton step in the weighted metric; once a step has taken the error down a hundredfold the rest
-of the step works in M, whose factorization the velocity projection shares (else the velocities get one in M).
-
-What it leaves out. An island already within tolerance gets no Newton step, and one whose J v is within tolerance no
-velocity solve. An island at rest gets nothing computed: when every input of its projection (the bodies' poses,
-velocities, mass properties and contact flags, the fixed partners' poses and velocities, the joints' frames, flags,
-limits and multi-turn angles, the step) is bit for bit what it was at the last step's start or the one before, that
-step's result is applied again — exact, since the projection is a deterministic function of them. Chains hanging still
-under Bullet's solver reach such a fixed point (the solver lets them sag by the same amount every step), chains folded
-against their stops a cycle of two states, so a world of
-ragdolls kept awake at rest costs a check of about 30 numbers per body and joint (getLastStats: restingIslands,
-positionsWithinTolerance, velocitiesWithinTolerance). Sleeping bodies are never moved, and an island of them is not
-built at all. The world's constraints are cast to quaternion hinges once, not every step.
-
-Pose and velocity hand-back. A moved body gets its centre-of-mass (world) transform and its interpolation transform
-set to the projected pose, and its world inverse inertia refreshed (updateInertiaTensor); a body whose velocity
-changes gets its interpolation velocities set too. The world synchronizes its motion state at the end of the step
-from that interpolation transform, as for any body, so rendering and the next step both see the projected pose.
-
-Eigen is a private dependency of this library: nothing here includes it.
+/** \file
+The post-stabilizer: btQuaternionHingeStabilizer, a btActionInterface that projects the bodies back onto their joints
+after every internal step, with its settings, statistics and filter. How it works, what it holds and what it leaves
+out: docs/STABILIZER.md; the equations: docs/MATH.md (Q13, Q14) and docs/ENERGY.md (Q15–Q19). Eigen is a private
+dependency of this library: nothing here includes it.
 */
 #ifndef BT_QUATERNION_HINGE_STABILIZER_H
 #define BT_QUATERNION_HINGE_STABILIZER_H
@@ -110,7 +25,15 @@ enum btQuaternionHingeStabilizerSolver
 	BT_QHSTAB_SOLVER_SPARSE_LDLT = 1
 };
 
-/// The stabilizer's configuration: a plain struct with defaults. setSettings checks every field.
+/// The stabilizer's configuration: a plain struct with defaults. setSettings checks every field and keeps the previous
+/// settings when one is refused.
+/// \code
+/// btQuaternionHingeStabilizer stabilizer;
+/// btQuaternionHingeStabilizerSettings settings = stabilizer.getSettings();
+/// settings.projectPointConstraints = true;  // a ragdoll's cone twists too
+/// stabilizer.setSettings(settings);
+/// \endcode
+/// More: docs/STABILIZER.md, "Settings" (a table of every field).
 struct btQuaternionHingeStabilizerSettings
 {
 	/// Newton stops once every row's |C| ≤ positionTolerance. Units: metres for the linear rows (pivot separation),
@@ -299,19 +222,36 @@ struct btQuaternionHingeStabilizerStats
 /// Its bodies, if no projected joint holds them, are never moved (unless moveAttachedBodies carries one with the
 /// projected body it hangs from, or closeAttachedConstraints puts one on its constraint to it), so a world whose
 /// joints are all left out steps exactly as without the stabilizer.
+/// \code
+/// struct HeroOnly : btQuaternionHingeStabilizerFilter  // the joints the app marked with user id 1
+/// {
+///   bool needsStabilization(const btTypedConstraint& joint) const override { return joint.getUserConstraintId() == 1; }
+/// };
+/// \endcode
+/// More: docs/STABILIZER.md, "Only where the scene needs it".
 struct QUATHINGE_STABILIZER_API btQuaternionHingeStabilizerFilter
 {
-	virtual ~btQuaternionHingeStabilizerFilter() {}
+	virtual ~btQuaternionHingeStabilizerFilter() {}  ///< A filter is deleted through its own type or this one.
 	/// Called once per step for every enabled joint of a kind the settings project (quaternion, stock and 6-dof
 	/// hinges; point constraints and locked 6-dofs with their options) with a movable body: true projects it. The answer may change from step to step (the islands are then rebuilt).
 	/// btQuaternionHingeConstraint::upcast tells a quaternion hinge.
 	virtual bool needsStabilization(const btTypedConstraint& constraint) const = 0;
 };
 
-/// The post-stabilizer: a btActionInterface that, after every internal step, projects the bodies of each island of
-/// quaternion hinges back onto their joints, positions by Newton (MATH.md Q13) and velocities in the mass metric (Q14).
-/// Add it with btDynamicsWorld::addAction; configure it with btQuaternionHingeStabilizerSettings (getSettings,
-/// setSettings) and, to project only some joints, a btQuaternionHingeStabilizerFilter (setFilter).
+/// The post-stabilizer: a btActionInterface that, after every internal step of the world it is added to, projects the
+/// bodies back onto their joints, positions by Newton (MATH.md Q13) and velocities in the mass metric (Q14), doing no
+/// work by default (keepEnergyAndMomentum, ENERGY.md Q15–Q19). It holds btQuaternionHingeConstraints and, as its
+/// settings ask: stock btHingeConstraints and btHingeAccumulatedAngleConstraints (projectStockHinges), 6-dofs set up
+/// as hinges (projectDofHinges), the pivots of point-to-point, cone twist and linear-locked 6-dof constraints
+/// (projectPointConstraints), sliders and welds (projectLockedConstraints) and contacts as one-sided rows
+/// (projectContacts), grouped into islands of joints that share movable bodies; a filter (setFilter) narrows them.
+/// \code
+/// btQuaternionHingeStabilizer stabilizer;   // settings: btQuaternionHingeStabilizerSettings
+/// world->addAction(&stabilizer);            // it must outlive its place in the world
+/// world->stepSimulation(btScalar(1) / 60);  // getLastStats() says what the last internal step did
+/// world->removeAction(&stabilizer);
+/// \endcode
+/// More: docs/STABILIZER.md (how it works, settings, ragdolls, robots), docs/STABILIZED_JOINTS.md (stock joints held).
 ATTRIBUTE_ALIGNED16(class)
 QUATHINGE_STABILIZER_API btQuaternionHingeStabilizer : public btActionInterface
 {
@@ -322,9 +262,10 @@ public:
 	/// without exceptions, reports and keeps the default settings).
 	explicit btQuaternionHingeStabilizer(const btQuaternionHingeStabilizerSettings& settings =
 											 btQuaternionHingeStabilizerSettings());
+	/// Frees the islands. Remove the stabilizer from its world first (removeAction).
 	virtual ~btQuaternionHingeStabilizer();
-	btQuaternionHingeStabilizer(const btQuaternionHingeStabilizer&) = delete;
-	btQuaternionHingeStabilizer& operator=(const btQuaternionHingeStabilizer&) = delete;
+	btQuaternionHingeStabilizer(const btQuaternionHingeStabilizer&) = delete;             ///< Not copyable: it owns its islands.
+	btQuaternionHingeStabilizer& operator=(const btQuaternionHingeStabilizer&) = delete;  ///< Not copyable: it owns its islands.
 
 	/// btActionInterface: called by the world after each internal step's integration. Does nothing unless
 	/// collisionWorld is a btDynamicsWorld (only those hold constraints).

@@ -1,10 +1,6 @@
-/*
-Loading .bullet files with their quaternion hinges: btBulletWorldImporter, plus the QuatHinge chunks.
-
-    btQuaternionHingeWorldImporter importer(world);      // instead of btBulletWorldImporter
-    importer.loadFile("scene.bullet");                   // or loadFileFromMemory(buffer, length)
-    ...
-    importer.deleteAllData();                            // deletes the quaternion hinges too, as every constraint
+/** \file
+Loading .bullet files with their quaternion hinges: btQuaternionHingeWorldImporter, btBulletWorldImporter plus the
+QuatHinge chunks.
 
 Every hinge written by btQuaternionHingeConstraint::serialize comes back as a btQuaternionHingeConstraint with all its
 settings (btQuaternionHingeSerialization.h: the joint's stock chunk plus a QuatHinge chunk); stock hinges stay
@@ -42,6 +38,13 @@ libbullet-extras-dev), which the QuatHinge library itself does not link. Link th
 
 /// Loads .bullet files with their quaternion hinges, in place of btBulletWorldImporter (header-only; link Bullet's
 /// world importer and file loader). Stock hinges stay stock; the importer owns what it loaded (deleteAllData()).
+/// \code
+/// btQuaternionHingeWorldImporter importer(world);  // instead of btBulletWorldImporter
+/// if (importer.loadFile("scene.bullet"))           // or loadFileFromMemory(buffer, length)
+///   std::printf("%d quaternion hinges\n", importer.getNumQuaternionHinges());
+/// importer.deleteAllData();  // removes and deletes what it loaded, quaternion hinges included
+/// \endcode
+/// More: docs/STABILIZER.md, "Upgrading a world, and files".
 class btQuaternionHingeWorldImporter : public btBulletWorldImporter
 {
 public:
