@@ -18,11 +18,11 @@ namespace
 {
 struct RagdollFigures
 {
-	double hinge = 0;       // m: the largest hinge pivot separation from t = 0.5 s
-	double cone = 0;        // m: the largest cone-twist pivot separation from t = 0.5 s
-	double restDepth = 0;   // m: the mean over the last second of each step's deepest ground penetration
-	int skipped = 0;        // joints of Bullet's kinds the stabilizer left out (all reasons), the most in any step
-	int contactRows = 0;    // contact rows projected, summed over the run
+	double hinge = 0;      // m: the largest hinge pivot separation from t = 0.5 s
+	double cone = 0;       // m: the largest cone-twist pivot separation from t = 0.5 s
+	double restDepth = 0;  // m: the mean over the last second of each step's deepest ground penetration
+	int skipped = 0;       // joints of Bullet's kinds the stabilizer left out (all reasons), the most in any step
+	int contactRows = 0;   // contact rows projected, summed over the run
 };
 
 // `count` ragdolls: one standing at the origin, or a pile of columns of five, each 1.8 m above the one below, turned
@@ -66,10 +66,11 @@ void check(RagdollGround ground, int count)
 {
 	const RagdollFigures bare = run(ground, count, false), held = run(ground, count, true);
 	const char* groundName = ground == RagdollGround::CollisionObject ? "btCollisionObject" : "btRigidBody";
-	std::printf("[ measured ] %d ragdoll(s) on a %s ground, without -> with the stabilizer (defaults): hinges %.2e -> "
-				"%.2e m, cone twists %.2e -> %.2e m, resting ground penetration %.2e -> %.2e m, contact rows %d\n",
-				count, groundName, bare.hinge, held.hinge, bare.cone, held.cone, bare.restDepth, held.restDepth,
-				held.contactRows);
+	std::printf(
+		"[ measured ] %d ragdoll(s) on a %s ground, without -> with the stabilizer (defaults): hinges %.2e -> "
+		"%.2e m, cone twists %.2e -> %.2e m, resting ground penetration %.2e -> %.2e m, contact rows %d\n",
+		count, groundName, bare.hinge, held.hinge, bare.cone, held.cone, bare.restDepth, held.restDepth,
+		held.contactRows);
 	EXPECT_LE(held.hinge, kSeparationTolerance);
 	EXPECT_LE(held.cone, kSeparationTolerance);
 	EXPECT_LE(held.restDepth, bare.restDepth);

@@ -370,7 +370,7 @@ TEST(StabilizerStock, WorldWhoseJointsAreFilteredOutStepsBitForBitAsWithoutTheSt
 	EXPECT_EQ(rejecting.getLastStats().joints, 0);
 	EXPECT_EQ(rejecting.getLastStats().filteredJoints, 5);  // stock, 6dof2, 6-dof and quaternion hinges, the point
 	EXPECT_EQ(kindsOff.getLastStats().joints, 0);
-	EXPECT_EQ(kindsOff.getLastStats().filteredJoints, 1);  // the quaternion hinge; the kinds turned off are not seen,
+	EXPECT_EQ(kindsOff.getLastStats().filteredJoints, 1);   // the quaternion hinge; the kinds turned off are not seen,
 	EXPECT_EQ(kindsOff.getLastStats().skippedByOption, 4);  // but counted: stock, 6dof2 and 6-dof hinges, the point
 	filtered.scene.world().removeAction(&rejecting);
 	off.scene.world().removeAction(&kindsOff);
