@@ -39,8 +39,8 @@ double pivotResolution(const MeasuredJoint& j)
 {
 	return resolution(j.a->getCenterOfMassTransform() * j.frameA.getOrigin(), j.b->getCenterOfMassTransform() * j.frameB.getOrigin());
 }
-const double kWorseAngle = 1e-5;       // rad: a joint's axes or its angle past a stop
-const double kWorseDepth = 1e-6;       // m: a contact point's penetration
+const double kWorseAngle = 1e-5;  // rad: a joint's axes or its angle past a stop
+const double kWorseDepth = 1e-6;  // m: a contact point's penetration
 
 // Every measured error of the world now, in a fixed order (the manifolds' points are not changed by the projection):
 // per joint its pivot separation (m), axis misalignment (rad) and how far its angle is past a stop (rad); per slider
@@ -115,7 +115,7 @@ TEST(StabilizerNeverWorse, NoConstraintOfAnyLibrarySceneIsFurtherFromSatisfiedAf
 		for (Kind kind : {Kind::Stock, Kind::Generic6Dof2, Kind::Quaternion})
 		{
 			Simulation sim(scene, kind);
-			btQuaternionHingeStabilizer stabilizer;  // the defaults
+			btQuaternionHingeStabilizer stabilizer;                // the defaults
 			double separation = 0, angle = 0, depth = 0, raw = 0;  // raw: the separations' without the resolution
 			int skipped = 0;
 			for (int s = 0; s < steps; ++s)
@@ -131,9 +131,10 @@ TEST(StabilizerNeverWorse, NoConstraintOfAnyLibrarySceneIsFurtherFromSatisfiedAf
 				depth = std::max(depth, worsening(before.depth, after.depth));
 			}
 			++worlds;
-			std::printf("[ measured ] %-16s %-10s worst worsening in a call: %.2e m (%.2e m with the unresolved step), "
-						"%.2e rad, contacts %.2e m\n",
-						name.c_str(), kindName(kind).c_str(), separation, raw, angle, depth);
+			std::printf(
+				"[ measured ] %-16s %-10s worst worsening in a call: %.2e m (%.2e m with the unresolved step), "
+				"%.2e rad, contacts %.2e m\n",
+				name.c_str(), kindName(kind).c_str(), separation, raw, angle, depth);
 			EXPECT_LE(separation, kWorseSeparation) << name << " " << kindName(kind);
 			EXPECT_LE(angle, kWorseAngle) << name << " " << kindName(kind);
 			EXPECT_LE(depth, kWorseDepth) << name << " " << kindName(kind);
