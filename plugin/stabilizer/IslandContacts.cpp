@@ -63,6 +63,7 @@ void scanContacts(btDispatcher& dispatcher, Array<SignatureEntry>& scan, Array<s
 {
 	// the movable bodies of the joints, numbered by first appearance (the scan's order, not the pointers'), found by
 	// binary search in `index` (sorted by pointer; kept by the caller, so its capacity stays)
+	if (dispatcher.getNumManifolds() == 0) return;  // a world without contacts (a hanging chain) pays nothing more
 	const size_t joints = scan.size();
 	index.clear();
 	for (size_t i = 0; i < joints; ++i)
