@@ -4,28 +4,60 @@
 
 #include <gtest/gtest.h>
 
+#include "BulletCollision/CollisionDispatch/btGhostObject.h"
+
 #include <algorithm>
 #include <cstdio>
+#include <memory>
+#include <utility>
 
 using namespace qh_test;
 
 namespace
 {
+// What the chain lies on: a static rigid box, the same box kinematic, a plain static btCollisionObject (as Bullet's
+// RagdollDemo makes its ground), or objects Bullet's solver does not respond to — a btCollisionObject with
+// CF_NO_CONTACT_RESPONSE, a btGhostObject.
+enum class Ground
+{
+	StaticBody,
+	KinematicBody,
+	CollisionObject,
+	NoResponse,
+	Ghost
+};
+
 // A 4-link chain of 0.5 m boxes (10 × 5 × 5 cm) hinged end to end about z, the first to the world at x = 0, lying on a
-// static ground box whose top is at y = 0; the first link's pivot 2.6 cm up (its box 1 mm above the ground), the
-// links left to sag onto the ground from there.
+// ground box whose top is at y = 0; the first link's pivot 2.6 cm up (its box 1 mm above the ground), the links left
+// to sag onto the ground from there.
 struct ChainOnTheGround
 {
 	StabilizerScene scene;
 	std::vector<btRigidBody*> links;
-	btRigidBody* ground;
-	explicit ChainOnTheGround(bool kinematicGround = false, int n = 4)
+	btCollisionObject* ground = nullptr;
+	btRigidBody* groundBody = nullptr;  // the ground when it is a rigid body
+	btBoxShape groundShape{btVector3(20, 1, 20)};
+	std::unique_ptr<btCollisionObject> groundObject;  // the ground when it is not
+	explicit ChainOnTheGround(Ground kind = Ground::StaticBody, int n = 4)
 	{
-		ground = scene.box(btVector3(20, 1, 20), 0, btVector3(0, -1, 0));
-		if (kinematicGround)
+		if (kind == Ground::StaticBody || kind == Ground::KinematicBody)
 		{
-			ground->setCollisionFlags(ground->getCollisionFlags() | btCollisionObject::CF_KINEMATIC_OBJECT);
-			ground->setActivationState(DISABLE_DEACTIVATION);
+			ground = groundBody = scene.box(btVector3(20, 1, 20), 0, btVector3(0, -1, 0));
+			if (kind == Ground::KinematicBody)
+			{
+				ground->setCollisionFlags(ground->getCollisionFlags() | btCollisionObject::CF_KINEMATIC_OBJECT);
+				ground->setActivationState(DISABLE_DEACTIVATION);
+			}
+		}
+		else
+		{
+			groundObject.reset(kind == Ground::Ghost ? new btGhostObject() : new btCollisionObject());
+			groundObject->setCollisionShape(&groundShape);
+			groundObject->setWorldTransform(btTransform(btQuaternion::getIdentity(), btVector3(0, -1, 0)));
+			if (kind == Ground::NoResponse)
+				groundObject->setCollisionFlags(groundObject->getCollisionFlags() | btCollisionObject::CF_NO_CONTACT_RESPONSE);
+			ground = groundObject.get();
+			scene.world().addCollisionObject(ground);
 		}
 		const btScalar y = btScalar(0.026);
 		for (int i = 0; i < n; ++i)
@@ -37,6 +69,31 @@ struct ChainOnTheGround
 				scene.hinge(*links[size_t(i - 1)], *links[size_t(i)], btVector3(btScalar(0.25), 0, 0),
 							btVector3(btScalar(-0.25), 0, 0), btVector3(0, 0, 1), btVector3(0, 0, 1));
 		}
+	}
+	~ChainOnTheGround()
+	{
+		if (groundObject) scene.world().removeCollisionObject(groundObject.get());
+	}
+	// The links' contact points with the ground deeper than `depth` (m): the link and the point in its frame.
+	std::vector<std::pair<const btCollisionObject*, btVector3>> pointsDeeperThan(double depth)
+	{
+		std::vector<std::pair<const btCollisionObject*, btVector3>> points;
+		btDispatcher& d = *scene.world().getDispatcher();
+		for (int m = 0; m < d.getNumManifolds(); ++m)
+		{
+			btPersistentManifold* manifold = d.getManifoldByIndexInternal(m);
+			const bool groundIsB = manifold->getBody1() == ground;
+			if (!groundIsB && manifold->getBody0() != ground) continue;
+			const btCollisionObject* link = groundIsB ? manifold->getBody0() : manifold->getBody1();
+			for (int p = 0; p < manifold->getNumContacts(); ++p)
+			{
+				const btManifoldPoint& point = manifold->getContactPoint(p);
+				const btVector3 onLink =
+					link->getWorldTransform() * (groundIsB ? point.m_localPointA : point.m_localPointB);
+				if (-double(onLink.y()) > depth) points.push_back({link, groundIsB ? point.m_localPointA : point.m_localPointB});
+			}
+		}
+		return points;
 	}
 	// The deepest penetration (m, ≥ 0) of the links' contact points with the ground, at the links' current poses.
 	double penetration()
@@ -85,16 +142,68 @@ TEST(StabilizerContacts, AChainLyingOnTheGroundIsLiftedOutAndClosed)
 	EXPECT_LE(separation, kSeparationTolerance);
 }
 
-TEST(StabilizerContacts, OffOrOnAKinematicBodyThereAreNoContactRows)
+TEST(StabilizerContacts, AStaticCollisionObjectGroundIsAPartnerLikeAStaticBody)
 {
-	// the default leaves contacts out; a kinematic partner moves within the step, so its contacts are not rows either
-	for (bool kinematic : {false, true})
+	// Bullet's RagdollDemo makes its ground a plain static btCollisionObject: its contacts are rows as a static body's are
+	for (Ground kind : {Ground::CollisionObject, Ground::KinematicBody})
 	{
-		ChainOnTheGround w(kinematic);
-		btQuaternionHingeStabilizer stabilizer(kinematic ? withContacts() : btQuaternionHingeStabilizerSettings());
+		ChainOnTheGround w(kind);
+		btQuaternionHingeStabilizer stabilizer(withContacts());
 		for (int i = 0; i < 30; ++i) w.scene.world().stepSimulation(kTimeStep, 0, kTimeStep);
-		ASSERT_GT(w.penetration(), 0) << "the test needs links in the ground";
-		EXPECT_EQ(stabilizer.stabilize(&w.scene.world(), kTimeStep).contactRows, 0);
+		const double before = w.penetration();
+		ASSERT_GT(before, kSeparationTolerance) << "the test needs links in the ground";
+		const btQuaternionHingeStabilizerStats& stats = stabilizer.stabilize(&w.scene.world(), kTimeStep);
+		double separation = 0, misalignment = 0;
+		w.scene.jointErrors(separation, misalignment);
+		std::printf("[ measured ] %s ground: penetration %.3g -> %.3g m, separation %.3g m, contact rows %d\n",
+					kind == Ground::CollisionObject ? "btCollisionObject" : "kinematic", before, w.penetration(),
+					separation, stats.contactRows);
+		EXPECT_GT(stats.contactRows, 0);
+		EXPECT_LE(w.penetration(), kSeparationTolerance);
+		EXPECT_LE(separation, kSeparationTolerance);
 	}
+}
+
+TEST(StabilizerContacts, ContactsBulletDoesNotRespondToAreNotRows)
+{
+	// off (projectContacts = false), a ground with CF_NO_CONTACT_RESPONSE, a ghost object: no contact rows
+	for (Ground kind : {Ground::StaticBody, Ground::NoResponse, Ground::Ghost})
+	{
+		ChainOnTheGround w(kind);
+		btQuaternionHingeStabilizerSettings settings = withContacts();
+		if (kind == Ground::StaticBody) settings.projectContacts = false;
+		btQuaternionHingeStabilizer stabilizer(settings);
+		for (int i = 0; i < 30; ++i) w.scene.world().stepSimulation(kTimeStep, 0, kTimeStep);
+		if (kind == Ground::StaticBody) ASSERT_GT(w.penetration(), 0) << "the test needs links in the ground";
+		else ASSERT_GT(w.scene.world().getDispatcher()->getNumManifolds(), 0) << "the test needs manifolds with the ground";
+		EXPECT_EQ(stabilizer.stabilize(&w.scene.world(), kTimeStep).contactRows, 0) << int(kind);
+	}
+}
+
+TEST(StabilizerContacts, AKinematicGroundRisingIsNotApproachedAfterTheProjection)
+{
+	// A kinematic ground moving up at 0.5 m/s: a contact row's velocity is relative to it, so after the projection the
+	// deepest link point (a row of its link's slot) does not approach it (a partner taken at rest would leave it
+	// sinking at 0.5 m/s). Shallower points may have left the rows in the position stage (their multiplier pulled):
+	// those are Bullet's solver's.
+	const double kRise = 0.5;                // m/s
+	const double kApproachTolerance = 1e-4;  // m/s: the velocity rows' threshold (positionTolerance / step) and rounding
+	ChainOnTheGround w(Ground::KinematicBody);
+	btQuaternionHingeStabilizer stabilizer(withContacts());
+	for (int i = 0; i < 30; ++i) w.scene.world().stepSimulation(kTimeStep, 0, kTimeStep);
+	const auto deep = w.pointsDeeperThan(kSeparationTolerance);  // deeper than the rows' threshold
+	ASSERT_FALSE(deep.empty()) << "the test needs links in the ground";
+	size_t deepest = 0;
+	for (size_t i = 0; i < deep.size(); ++i)
+		if ((deep[i].first->getWorldTransform() * deep[i].second).y() < (deep[deepest].first->getWorldTransform() * deep[deepest].second).y())
+			deepest = i;
+	w.groundBody->setLinearVelocity(btVector3(0, btScalar(kRise), 0));
+	const btQuaternionHingeStabilizerStats& stats = stabilizer.stabilize(&w.scene.world(), kTimeStep);
+	EXPECT_GT(stats.contactRows, 0);
+	const btRigidBody* link = btRigidBody::upcast(deep[deepest].first);
+	const btVector3 at = link->getWorldTransform() * deep[deepest].second;
+	const double separating = link->getVelocityInLocalPoint(at - link->getCenterOfMassPosition()).y() - kRise;
+	std::printf("[ measured ] the deepest point's separation from the rising ground %.3g m/s\n", separating);
+	EXPECT_GE(separating, -kApproachTolerance);
 }
 #endif

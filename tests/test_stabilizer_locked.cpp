@@ -179,7 +179,7 @@ struct SliderChain
 
 btQuaternionHingeStabilizerSettings withLocked()
 {
-	btQuaternionHingeStabilizerSettings s;
+	btQuaternionHingeStabilizerSettings s = hingesOnly();
 	s.projectLockedConstraints = true;
 	return s;
 }
@@ -188,7 +188,7 @@ btQuaternionHingeStabilizerSettings withLocked()
 TEST(StabilizerLocked, SliderAndWeldHoldWithTheHingesWithTheOptionAndNotWithout)
 {
 	SliderChain on, off;
-	btQuaternionHingeStabilizer locked(withLocked()), hingesOnly;
+	btQuaternionHingeStabilizer locked(withLocked()), hingesOnly(qh_test::hingesOnly());
 	on.scene.addAction(&locked);
 	off.scene.addAction(&hingesOnly);
 	double onHinges, onDistance, onAngle, offHinges, offDistance, offAngle;

@@ -98,11 +98,11 @@ struct MixedChain
 TEST(StabilizerPoints, MixedChainHoldsAtEveryJointWithTheOptionAndOnlyAtItsHingesWithout)
 {
 	MixedChain on, off;
-	btQuaternionHingeStabilizerSettings settings;
+	btQuaternionHingeStabilizerSettings settings = qh_test::hingesOnly();
 	settings.projectPointConstraints = true;
 	// (the 6-dof hinge is projected as a hinge by default, projectDofHinges: tests/test_stabilizer_stock.cpp; the
 	// stabilizer without the option here sees the quaternion hinges alone)
-	btQuaternionHingeStabilizerSettings quaternionOnly;
+	btQuaternionHingeStabilizerSettings quaternionOnly = qh_test::hingesOnly();
 	quaternionOnly.projectDofHinges = false;
 	btQuaternionHingeStabilizer withPoints(settings), hingesOnly(quaternionOnly);
 	on.scene.addAction(&withPoints);
@@ -309,11 +309,11 @@ TEST(StabilizerPoints, SixDofWithItsLinearAxesLockedIsAPointConstraint)
 	std::vector<btGeneric6DofSpring2Constraint*> dofsOn, dofsOff;
 	build(on, dofsOn);
 	build(off, dofsOff);
-	btQuaternionHingeStabilizerSettings settings;
+	btQuaternionHingeStabilizerSettings settings = qh_test::hingesOnly();
 	settings.projectPointConstraints = true;
 	// (the 6-dof hinge is projected as a hinge by default, projectDofHinges: tests/test_stabilizer_stock.cpp; the
 	// stabilizer without the option here sees the quaternion hinges alone)
-	btQuaternionHingeStabilizerSettings quaternionOnly;
+	btQuaternionHingeStabilizerSettings quaternionOnly = qh_test::hingesOnly();
 	quaternionOnly.projectDofHinges = false;
 	btQuaternionHingeStabilizer withPoints(settings), hingesOnly(quaternionOnly);
 	on.addAction(&withPoints);

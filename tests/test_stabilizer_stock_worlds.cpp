@@ -344,7 +344,7 @@ TEST(StabilizerStock, WorldWhoseJointsAreFilteredOutStepsBitForBitAsWithoutTheSt
 	RejectAll none;
 	rejecting.setFilter(&none);
 	filtered.scene.addAction(&rejecting);
-	btQuaternionHingeStabilizerSettings settings;
+	btQuaternionHingeStabilizerSettings settings = hingesOnly();
 	settings.projectStockHinges = settings.projectDofHinges = false;
 	btQuaternionHingeStabilizer kindsOff(settings);
 	off.scene.addAction(&kindsOff);
@@ -368,9 +368,10 @@ TEST(StabilizerStock, WorldWhoseJointsAreFilteredOutStepsBitForBitAsWithoutTheSt
 	EXPECT_EQ(std::memcmp(a.data(), b.data(), a.size() * sizeof(btScalar)), 0);
 	EXPECT_EQ(std::memcmp(a.data(), c.data(), a.size() * sizeof(btScalar)), 0);
 	EXPECT_EQ(rejecting.getLastStats().joints, 0);
-	EXPECT_EQ(rejecting.getLastStats().filteredJoints, 4);  // stock, 6dof2, 6-dof and quaternion hinges
+	EXPECT_EQ(rejecting.getLastStats().filteredJoints, 5);  // stock, 6dof2, 6-dof and quaternion hinges, the point
 	EXPECT_EQ(kindsOff.getLastStats().joints, 0);
-	EXPECT_EQ(kindsOff.getLastStats().filteredJoints, 1);  // the quaternion hinge; the kinds turned off are not seen
+	EXPECT_EQ(kindsOff.getLastStats().filteredJoints, 1);   // the quaternion hinge; the kinds turned off are not seen,
+	EXPECT_EQ(kindsOff.getLastStats().skippedByOption, 4);  // but counted: stock, 6dof2 and 6-dof hinges, the point
 	filtered.scene.world().removeAction(&rejecting);
 	off.scene.world().removeAction(&kindsOff);
 }

@@ -27,12 +27,53 @@ bool isMovable(const btRigidBody& body)
 		   (body.getInvMass() > 0 || !body.getInvInertiaDiagLocal().isZero());
 }
 
-int scanWorld(btDynamicsWorld& world, const ScanKinds& kinds, const btQuaternionHingeStabilizerFilter* filter,
-			  UpcastCache& upcasts, Array<SignatureEntry>& out)
+namespace
+{
+// Bullet's joint types (the kinds the stabilizer knows, expressible or not); gears, contacts and custom types are not.
+bool isBulletJointType(int type)
+{
+	switch (type)
+	{
+		case POINT2POINT_CONSTRAINT_TYPE:
+		case HINGE_CONSTRAINT_TYPE:
+		case CONETWIST_CONSTRAINT_TYPE:
+		case D6_CONSTRAINT_TYPE:
+		case SLIDER_CONSTRAINT_TYPE:
+		case D6_SPRING_CONSTRAINT_TYPE:
+		case D6_SPRING_2_CONSTRAINT_TYPE:
+		case FIXED_CONSTRAINT_TYPE:
+		case QUATERNION_HINGE_CONSTRAINT_TYPE:
+			return true;
+		default:
+			return false;
+	}
+}
+
+bool hasMovableBody(const btTypedConstraint& c) { return isMovable(c.getRigidBodyA()) || isMovable(c.getRigidBodyB()); }
+
+// Why a constraint with a movable body that no option took is left out: its kind's option is off, or its form is one
+// the stabilizer cannot express (or it is no joint of Bullet's).
+void countSkip(const btTypedConstraint& c, ScanSkips& skipped)
+{
+	if (!isBulletJointType(c.getConstraintType()))
+	{
+		++skipped.otherConstraints;
+		return;
+	}
+	const DofLocks locks = dofLocks(c);
+	const bool expressible = readFrameHinge(c, true, true, nullptr, nullptr, nullptr) != FrameHingeKind::None ||
+							 hasPointRows(c, locks) || hasLockedRows(locks);
+	if (expressible) ++skipped.byOption;
+	else ++skipped.unexpressible;
+}
+}  // namespace
+
+void scanWorld(btDynamicsWorld& world, const ScanKinds& kinds, const btQuaternionHingeStabilizerFilter* filter,
+			   UpcastCache& upcasts, Array<SignatureEntry>& out, ScanSkips& skipped)
 {
 	const bool projectLimits = kinds.limits, projectPoints = kinds.points, projectLocked = kinds.locked;
 	out.clear();
-	int filtered = 0;
+	skipped = ScanSkips();
 	const int n = world.getNumConstraints();
 	upcasts.constraints.resize(size_t(n), nullptr);
 	upcasts.hinges.resize(size_t(n), nullptr);
@@ -67,7 +108,11 @@ int scanWorld(btDynamicsWorld& world, const ScanKinds& kinds, const btQuaternion
 		const DofLocks locks = !hinge && !frame && (projectPoints || projectLocked) ? dofLocks(*c) : DofLocks();
 		const bool point = !hinge && !frame && projectPoints && hasPointRows(*c, locks);
 		const bool locked = !hinge && !frame && !point && projectLocked && hasLockedRows(locks);
-		if (!hinge && !frame && !point && !locked) continue;
+		if (!hinge && !frame && !point && !locked)
+		{
+			if (hasMovableBody(*c)) countSkip(*c, skipped);
+			continue;
+		}
 		SignatureEntry e;
 		e.joint = hinge;
 		e.point = point ? c : nullptr;
@@ -81,10 +126,14 @@ int scanWorld(btDynamicsWorld& world, const ScanKinds& kinds, const btQuaternion
 		if (!(e.flags & (SignatureEntry::kMovableA | SignatureEntry::kMovableB))) continue;
 		// a faulted joint (refused frame edit, bad body state) re-enabled with setEnabled(true) instead of
 		// clearFault(): the solver gets no rows from it, and the stabilizer must not project onto its refused frame
-		if (hinge && hinge->getFault() != BT_QHINGE_FAULT_NONE) continue;
+		if (hinge && hinge->getFault() != BT_QHINGE_FAULT_NONE)
+		{
+			++skipped.faulted;
+			continue;
+		}
 		if (filter && !filter->needsStabilization(*c))
 		{
-			++filtered;
+			++skipped.filtered;
 			continue;
 		}
 		if (frame)
@@ -105,7 +154,6 @@ int scanWorld(btDynamicsWorld& world, const ScanKinds& kinds, const btQuaternion
 		if (projectLimits && hinge->getSettings().hasLimit) e.flags |= SignatureEntry::kLimitSlot;
 		out.push_back(e);
 	}
-	return filtered;
 }
 
 namespace

@@ -12,18 +12,58 @@ namespace stabilizer
 {
 namespace
 {
-// The manifold's two bodies as rigid bodies (null for another kind of collision object: a ghost, a soft body).
-const btRigidBody* rigidOf(const btCollisionObject* o) { return btRigidBody::upcast(o); }
+// A collision object whose contacts Bullet's solver responds to: a rigid body or a plain btCollisionObject (a ghost, a
+// soft body or another kind is not; nor is an object with CF_NO_CONTACT_RESPONSE).
+bool responds(const btCollisionObject& o)
+{
+	const int type = o.getInternalType();
+	return o.hasContactResponse() && (type == btCollisionObject::CO_RIGID_BODY || type == btCollisionObject::CO_COLLISION_OBJECT);
+}
 
-// A partner whose contact points are fixed for the step: static, or asleep (a kinematic body moves during the step,
-// and a movable one is not fixed at all: neither is a row).
-bool isFixedPartner(const btRigidBody& body) { return !isMovable(body) && !body.isKinematicObject(); }
+// The manifold's body as a movable rigid body (null for anything else: a partner, or no partner at all).
+const btRigidBody* movableOf(const btCollisionObject* o)
+{
+	const btRigidBody* body = btRigidBody::upcast(o);
+	return body && isMovable(*body) ? body : nullptr;
+}
+
+// A partner of infinite mass whose pose is fixed for the step: a static or kinematic rigid body or btCollisionObject
+// (RagdollDemo's ground is a static btCollisionObject; Bullet sets a kinematic body's pose before its internal steps,
+// and its velocity enters the velocity rows: partnerVelocity), or a rigid body asleep. A movable body is not one.
+bool isFixedPartner(const btCollisionObject& o)
+{
+	const btRigidBody* body = btRigidBody::upcast(&o);
+	return body ? !isMovable(*body) : true;
+}
+
+// The manifold's two objects, if it holds contacts Bullet's solver responds to (not with a ghost, not with
+// CF_NO_CONTACT_RESPONSE, not between two static or kinematic objects).
+bool respondingPair(const btPersistentManifold& manifold)
+{
+	const btCollisionObject& a = *manifold.getBody0();
+	const btCollisionObject& b = *manifold.getBody1();
+	return manifold.getNumContacts() > 0 && responds(a) && responds(b) &&
+		   !(a.isStaticOrKinematicObject() && b.isStaticOrKinematicObject());
+}
+
+// The velocity (world) of the point `at` of a fixed partner: a kinematic rigid body's velocity (Bullet sets it from
+// its motion each step), a plain kinematic btCollisionObject's interpolation velocity (the app's), zero when static.
+btVector3 partnerVelocity(const btCollisionObject& o, const btVector3& at)
+{
+	if (!o.isKinematicObject()) return btVector3(0, 0, 0);
+	const btRigidBody* body = btRigidBody::upcast(&o);
+	const btVector3 lin = body ? body->getLinearVelocity() : o.getInterpolationLinearVelocity();
+	const btVector3 ang = body ? body->getAngularVelocity() : o.getInterpolationAngularVelocity();
+	const btVector3 origin = body ? body->getCenterOfMassPosition() : o.getWorldTransform().getOrigin();
+	return lin + ang.cross(at - origin);
+}
 }  // namespace
 
 void scanContacts(btDispatcher& dispatcher, Array<SignatureEntry>& scan, Array<std::pair<const btRigidBody*, long long>>& index)
 {
 	// the movable bodies of the joints, numbered by first appearance (the scan's order, not the pointers'), found by
 	// binary search in `index` (sorted by pointer; kept by the caller, so its capacity stays)
+	if (dispatcher.getNumManifolds() == 0) return;  // a world without contacts (a hanging chain) pays nothing more
 	const size_t joints = scan.size();
 	index.clear();
 	for (size_t i = 0; i < joints; ++i)
@@ -40,10 +80,10 @@ void scanContacts(btDispatcher& dispatcher, Array<SignatureEntry>& scan, Array<s
 	for (int m = 0; m < dispatcher.getNumManifolds(); ++m)
 	{
 		const btPersistentManifold* manifold = dispatcher.getManifoldByIndexInternal(m);
-		if (manifold->getNumContacts() == 0) continue;
-		const btRigidBody* body[2] = {rigidOf(manifold->getBody0()), rigidOf(manifold->getBody1())};
-		if (!body[0] || !body[1]) continue;
-		const long long number[2] = {firstIndex(body[0]), firstIndex(body[1])};
+		if (!respondingPair(*manifold)) continue;
+		const btCollisionObject* object[2] = {manifold->getBody0(), manifold->getBody1()};
+		const btRigidBody* body[2] = {movableOf(object[0]), movableOf(object[1])};
+		const long long number[2] = {body[0] ? firstIndex(body[0]) : -1LL, body[1] ? firstIndex(body[1]) : -1LL};
 		SignatureEntry e;
 		e.joint = nullptr;
 		e.point = nullptr;
@@ -60,7 +100,7 @@ void scanContacts(btDispatcher& dispatcher, Array<SignatureEntry>& scan, Array<s
 		{
 			// an island body and a fixed partner: the body's slot for all its fixed partners
 			const int s = number[0] >= 0 ? 0 : 1;
-			if (number[s] < 0 || !isFixedPartner(*body[1 - s])) continue;  // neither, or a movable body outside
+			if (number[s] < 0 || !isFixedPartner(*object[1 - s])) continue;  // neither, or a movable body outside
 			e.body[0] = const_cast<btRigidBody*>(body[s]);
 			e.body[1] = nullptr;
 			e.flags = SignatureEntry::kMovableA | SignatureEntry::kContact;
@@ -83,10 +123,10 @@ void gatherContacts(btDispatcher& dispatcher, const Array<std::unique_ptr<Island
 	for (int m = 0; m < dispatcher.getNumManifolds(); ++m)
 	{
 		const btPersistentManifold* manifold = dispatcher.getManifoldByIndexInternal(m);
-		if (manifold->getNumContacts() == 0) continue;
-		const btRigidBody* body[2] = {rigidOf(manifold->getBody0()), rigidOf(manifold->getBody1())};
-		if (!body[0] || !body[1]) continue;
-		const auto found0 = bodyOf.find(body[0]), found1 = bodyOf.find(body[1]);
+		if (!respondingPair(*manifold)) continue;
+		const btCollisionObject* object[2] = {manifold->getBody0(), manifold->getBody1()};
+		const btRigidBody* body[2] = {movableOf(object[0]), movableOf(object[1])};
+		const auto found0 = body[0] ? bodyOf.find(body[0]) : bodyOf.end(), found1 = body[1] ? bodyOf.find(body[1]) : bodyOf.end();
 		const bool in[2] = {found0 != bodyOf.end(), found1 != bodyOf.end()};
 		// the slot: a pair's (both island bodies), or the island body's slot for its fixed partners
 		Island* island = nullptr;
@@ -105,7 +145,7 @@ void gatherContacts(btDispatcher& dispatcher, const Array<std::unique_ptr<Island
 		else if (in[0] != in[1])
 		{
 			a = in[0] ? 0 : 1;
-			if (!isFixedPartner(*body[1 - a])) continue;
+			if (!isFixedPartner(*object[1 - a])) continue;
 			const auto& found = a == 0 ? found0 : found1;
 			island = found->second.first;
 			if (found->second.second->contactSet >= 0) set = &island->contacts[size_t(found->second.second->contactSet)];
@@ -135,6 +175,7 @@ void gatherContacts(btDispatcher& dispatcher, const Array<std::unique_ptr<Island
 			row.local = a == 0 ? point.m_localPointA : point.m_localPointB;
 			if (fixedB) row.other = a == 0 ? point.getPositionWorldOnB() : point.getPositionWorldOnA();
 			else row.other = a == 0 ? point.m_localPointB : point.m_localPointA;
+			row.partnerVelocity = fixedB ? partnerVelocity(*object[1 - a], row.other) : btVector3(0, 0, 0);
 			row.normal = point.m_normalWorldOnB;
 			row.sign = a == 0 ? btScalar(1) : btScalar(-1);
 			set->distance[at] = distance;

@@ -3,20 +3,23 @@
 // 10-iteration solve then leaves its unconverged residual in the contacts, and resting ragdolls sink deeper than in the
 // world without the stabilizer (README, "Mixed ragdolls").
 //
-// Slots: an island body that touches fixed bodies (static or asleep; not kinematic, which moves within the step) gets
+// Slots: an island body that touches fixed partners (static or kinematic rigid bodies or plain btCollisionObjects, as
+// RagdollDemo's ground; rigid bodies asleep: Bullet sets a kinematic object's pose before its internal steps, so it
+// stands still while the projection runs, and its velocity enters the velocity rows: ContactRow::partnerVelocity) gets
 // one contact slot for them all, a joint of R rows (the island's block size) to a fixed side: a leaf edge, so a tree
 // stays a tree (eliminated first) and BlockLDLT factorizes it without fill. Two island bodies that touch get a pair
 // slot, a joint between them: it joins their islands and usually closes a loop (then SparseLDLT solves the island).
 // Which slots exist is part of the signature: a body that starts or stops touching rebuilds its island (keeping a
 // slot while its manifold lasts, points or none, was measured: fewer rebuilds, but the idle slots and their loops cost
 // more than the rebuilds saved, 1.4 s against 0.95 s on the ragdolls of tests/test_stabilizer_mixed.cpp). Contacts with
-// kinematic bodies and with movable bodies that no projected joint holds are not rows.
+// movable bodies that no projected joint holds are not rows, nor contacts Bullet's solver does not respond to: with a
+// ghost object, with CF_NO_CONTACT_RESPONSE, between two static or kinematic objects.
 // Rows: at the step's start a slot takes its bodies' deepest manifold points (at most R), held for the step: row r is
 // C_r = s_r n_r·(p_r − q_r) (p_r on the slot's body A, q_r on its body B or the fixed partner, n_r Bullet's normal on
 // the manifold's body B, s_r +1 when the slot's body A is the manifold's body A), Bullet's distance, negative when
 // penetrating, with J_r = s_r (n_r, a_r × n_r | −n_r, −b_r × n_r), a_r, b_r the points' arms in world.
 // One-sided, by an active set: a row enters the system once its point penetrates by more than its tolerance and then
-// holds C_r = 0 in the position stage and n·v_rel = 0 in the velocity stage (which removes the approach and the push-out
+// holds C_r = 0 in the position stage and n·v_rel = 0 (relative to a kinematic partner's velocity) in the velocity stage (which removes the approach and the push-out
 // velocity Bullet's solver gave a penetration the projection has already removed); after a solve, a row whose
 // multiplier pulls (λ_r < 0: the other rows would lift the body off) leaves the system for the rest of the step and K is
 // factorized again (releasePullingContacts). Inactive rows are zero rows with s on K's diagonal. Their linear part is

@@ -38,8 +38,9 @@ struct Gather
 const size_t kPerBody = 12 + 3 + 3 + 1 + 3 + 3 + 3 + 1 + 3 + 3 + 3;
 const size_t kPerFixedSide = 12 + 3 + 3;
 const size_t kPerJoint = 12 + 12 + 1 + 2;
-// a contact slot (projectContacts): its points' count, then per point its local and partner points, normal and sign
-const size_t kPerContactSlot = 1 + (3 + 3 + 3 + 1) * size_t(kMaxContactRows);
+// a contact slot (projectContacts): its points' count, then per point its local and partner points, normal, sign and
+// the partner's velocity there
+const size_t kPerContactSlot = 1 + (3 + 3 + 3 + 1 + 3) * size_t(kMaxContactRows);
 
 size_t inputSize(const Island& island)
 {
@@ -73,7 +74,7 @@ void gatherInputs(const Island& island, btScalar timeStep, Array<btScalar>& out)
 	}
 	for (const JointSlot& js : island.joints)
 	{
-		if (js.contact >= 0)  // its points (their partners are static or asleep: the points say where they are)
+		if (js.contact >= 0)  // its points and fixed partners' velocities (the points say where the partners are)
 		{
 			const ContactSet& set = island.contacts[size_t(js.contact)];
 			g.add(btScalar(set.count));
@@ -84,6 +85,7 @@ void gatherInputs(const Island& island, btScalar timeStep, Array<btScalar>& out)
 				g.add(used ? set.rows[r].other : btVector3(0, 0, 0));
 				g.add(used ? set.rows[r].normal : btVector3(0, 0, 0));
 				g.add(used ? set.rows[r].sign : btScalar(0));
+				g.add(used ? set.rows[r].partnerVelocity : btVector3(0, 0, 0));
 			}
 			continue;
 		}

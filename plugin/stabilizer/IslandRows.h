@@ -206,6 +206,13 @@ VelocityResidual evaluateVelocities(BlockIsland<R>& island, bool decideLimits, b
 		}
 		if (js.contact >= 0 && js.contactTouched != js.contactActiveInFactor) res.limitsChanged = true;
 		jb.jv.noalias() = jb.jacobian * v;
+		if (js.contact >= 0 && !js.rigid[1])  // a fixed partner's own velocity: Ċ_r = J_r v − s_r n_r·v_partner
+		{
+			const ContactSet& set = island.contacts[size_t(js.contact)];
+			for (int r = 0; r < set.count; ++r)
+				if (js.contactTouched & (1u << r))
+					jb.jv[r] -= double(set.rows[r].sign * set.rows[r].normal.dot(set.rows[r].partnerVelocity));
+		}
 		const btScalar floor = roundingFloor(speed);
 		const int linearRows = js.linearRows;
 		for (int r = 0; r < js.rows; ++r)

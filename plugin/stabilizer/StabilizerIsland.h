@@ -98,9 +98,17 @@ struct ScanKinds
 /// Appends the world's enabled quaternion hinges (and, with kinds.points, its point constraints: PointRows.h; with
 /// kinds.locked, its locked 6-dofs: LockedRows.h; with kinds.stockHinges/dofHinges, its stock and 6-dof hinges:
 /// StockHingeRows.h) with a movable body that `filter` (if any) keeps, in constraint order, to out (cleared first);
-/// returns how many the filter left out.
-int scanWorld(btDynamicsWorld& world, const ScanKinds& kinds, const btQuaternionHingeStabilizerFilter* filter,
-			  UpcastCache& upcasts, Array<SignatureEntry>& out);
+/// of the enabled constraints with a movable body it leaves out, it counts (in `skipped`) those the filter left out, those
+/// of a kind whose option is off, those of Bullet's joint types in a form it cannot express (a 6-dof with a limited or
+/// free angle and a free linear axis, a btSliderConstraint, a btGeneric6DofConstraint weld), faulted quaternion hinges,
+/// and constraints of other types (gears, custom constraints): none is skipped uncounted.
+/// fills `skipped` with the joints it did not take and why (btQuaternionHingeStabilizerStats::filteredJoints, skipped*).
+struct ScanSkips
+{
+	int filtered = 0, byOption = 0, unexpressible = 0, faulted = 0, otherConstraints = 0;
+};
+void scanWorld(btDynamicsWorld& world, const ScanKinds& kinds, const btQuaternionHingeStabilizerFilter* filter,
+			   UpcastCache& upcasts, Array<SignatureEntry>& out, ScanSkips& skipped);
 
 struct IslandBody
 {
@@ -124,10 +132,11 @@ using JointJacobian = Eigen::Matrix<double, BlockShape<R>::kStorageRows, 12>;
 /// on the slot's body A, p₁ = T₁·other on its body B, or `other` itself (world) when B is a fixed partner.
 struct ContactRow
 {
-	btVector3 local;   // the point on the slot's body A, in its centre-of-mass frame
-	btVector3 other;   // the point on its body B: in B's centre-of-mass frame, or world for a fixed partner
-	btVector3 normal;  // world, Bullet's normal on body B of the manifold
-	btScalar sign;     // +1 when the slot's body A is the manifold's body 0, else −1: C < 0 is penetration
+	btVector3 local;            // the point on the slot's body A, in its centre-of-mass frame
+	btVector3 other;            // the point on its body B: in B's centre-of-mass frame, or world for a fixed partner
+	btVector3 normal;           // world, Bullet's normal on body B of the manifold
+	btScalar sign;              // +1 when the slot's body A is the manifold's body 0, else −1: C < 0 is penetration
+	btVector3 partnerVelocity;  // a fixed partner's velocity at `other` (world; non-zero only for a kinematic one)
 };
 
 /// The contact points of one contact slot this step (at most kMaxContactRows, the deepest): an island body with its

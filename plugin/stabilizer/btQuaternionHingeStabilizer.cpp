@@ -131,7 +131,13 @@ const btQuaternionHingeStabilizerStats& btQuaternionHingeStabilizer::stabilize(b
 	Impl& impl = *m_impl;
 	const ScanKinds kinds{m_settings.projectLimits, m_settings.projectPointConstraints,
 						  m_settings.projectLockedConstraints, m_settings.projectStockHinges, m_settings.projectDofHinges};
-	m_stats.filteredJoints = scanWorld(*world, kinds, m_filter, impl.upcasts, impl.scan);
+	ScanSkips skipped;
+	scanWorld(*world, kinds, m_filter, impl.upcasts, impl.scan, skipped);
+	m_stats.filteredJoints = skipped.filtered;
+	m_stats.skippedByOption = skipped.byOption;
+	m_stats.skippedUnexpressible = skipped.unexpressible;
+	m_stats.skippedFaulted = skipped.faulted;
+	m_stats.otherConstraints = skipped.otherConstraints;
 	if (m_settings.projectContacts) scanContacts(*world->getDispatcher(), impl.scan, impl.contactIndex);
 	if (!impl.built || impl.scan.size() != impl.signature.size() ||
 		!std::equal(impl.scan.begin(), impl.scan.end(), impl.signature.begin()))

@@ -2,7 +2,7 @@
 # Installs the built QuatHinge into a scratch prefix, then uses it as an outside project would.
 #   consumer_test.sh <QuatHinge build dir> <scratch dir> [double precision ON/OFF, default OFF]
 # Checks:
-#  - CMake: find_package(QuatHinge 0.1) works from the prefix, tests/consumer builds and runs, and it got the package's
+#  - CMake: find_package(QuatHinge 0.2) works from the prefix, tests/consumer builds and runs, and it got the package's
 #    btScalar (BT_USE_DOUBLE_PRECISION arrives with the target, nothing set by the consumer); a consumer asking for
 #    the other precision is refused.
 #  - pkg-config: `g++ main.cpp $(pkg-config --cflags --libs quathinge)` (quathinge-float64 for double) builds the same

@@ -30,6 +30,15 @@ const double kResidualTolerance = 1e-5;         // m or rad: ‖C‖∞ left, th
 #endif
 const double kMisalignmentToleranceDeg = 1e-3;  // degrees between the two hinge axes: the brief's target (1.7e-5 rad)
 
+/// The stabilizer's settings with only the hinges projected (projectPointConstraints, projectLockedConstraints and
+/// projectContacts off, 0.1's defaults): for the tests of what happens to the constraints and contacts it leaves out.
+inline btQuaternionHingeStabilizerSettings hingesOnly()
+{
+	btQuaternionHingeStabilizerSettings s;
+	s.projectPointConstraints = s.projectLockedConstraints = s.projectContacts = false;
+	return s;
+}
+
 // Owns a btDiscreteDynamicsWorld and everything in it; builds the scenes the tests share.
 class StabilizerScene
 {

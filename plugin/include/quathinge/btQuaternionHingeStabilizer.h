@@ -79,9 +79,9 @@ struct btQuaternionHingeStabilizerSettings
 	/// btGeneric6DofSpring2Constraint with its three linear axes locked (low == high; a ball built from a 6-dof, or a hinge
 	/// when projectDofHinges is off, its pivot moved by the locked values; its angles are not projected, and one with its angles locked at 0
 	/// too, a weld or btFixedConstraint, is not taken), in the same islands as the quaternion hinges: a ragdoll of
-	/// hinges and cone twists then holds together at every joint. They go through the filter as well. Off (the
-	/// default): only quaternion hinges; other constraints are not seen.
-	bool projectPointConstraints = false;
+	/// hinges and cone twists then holds together at every joint. They go through the filter as well. On by default;
+	/// off: not seen (getLastStats().skippedByOption counts them).
+	bool projectPointConstraints = true;
 	/// Also project the 6-dofs whose three angles are locked at 0 — a slider (btGeneric6DofSpring2Constraint with one
 	/// or two linear axes free or limited: a URDF prismatic joint as pybullet builds it) or a weld (all six locked;
 	/// btFixedConstraint) — as rows of the same islands: one per locked linear axis along frame A's axes and three for
@@ -90,18 +90,20 @@ struct btQuaternionHingeStabilizerSettings
 	/// lines, against 1.1e-2 m without the stabilizer and 5.3e-2 m with it and this off), and a slider inside a chain
 	/// no longer keeps the error Bullet's solver left it while the hinges around it are closed. The host shares the
 	/// correction and momentum is conserved (closeAttachedConstraints, by contrast, moves the attached body alone).
-	/// They go through the filter as well. Off (the default): not seen; a weld's island works in 6-row blocks.
-	bool projectLockedConstraints = false;
-	/// Project contacts too: an island body touching static (or sleeping) bodies gets a contact slot of up to 5 or 6
+	/// They go through the filter as well. On by default (a weld's island works in 6-row blocks); off: not seen.
+	bool projectLockedConstraints = true;
+	/// Project contacts too: an island body touching static or kinematic objects (rigid bodies, plain btCollisionObjects
+	/// such as RagdollDemo's ground; sleeping bodies) gets a contact slot of up to 5 or 6
 	/// rows (its deepest points), two island bodies touching each other a pair slot. A row is one-sided: it enters once
 	/// its point penetrates by more than the tolerance, then holds it at zero penetration for the rest of the step,
 	/// positions and velocities (the normal velocity Bullet's solver gave it to push out goes with the penetration),
 	/// and leaves if it would pull. The joints are then closed without handing the contacts the error: Bullet's
 	/// RagdollDemo ragdolls, with projectPointConstraints, rest 1.8e-3 m deep against 4.3e-3 m without a stabilizer.
-	/// Contacts with kinematic bodies and with dynamic bodies no projected joint holds are not rows. Off by default: a
+	/// A kinematic partner's velocity enters its rows' velocity stage. Contacts with dynamic bodies no projected joint
+	/// holds, with ghost objects or CF_NO_CONTACT_RESPONSE are not rows. On by default; off saves its cost: a
 	/// pair slot usually closes a loop (the general sparse LDLᵀ) and a body that starts or stops touching rebuilds its
 	/// island (allocating): 2.9 × stock on a crowd of 100 ragdolls, against 1.6 × without it (docs/PERFORMANCE.md, "Mixed ragdolls").
-	bool projectContacts = false;
+	bool projectContacts = true;
 	/// Carry attached bodies: a body whose every enabled constraint goes to one projected body (its host) and that
 	/// is dynamic, awake and held by no projected joint — a gripper's finger on its slider, a lamp on a point-to-point
 	/// — moves rigidly with its host, keeping its pose and velocity relative to it, so the projection does not leave
@@ -186,6 +188,10 @@ struct btQuaternionHingeStabilizerStats
 	int pointConstraints = 0;             ///< … point constraints (projectPointConstraints)
 	int lockedConstraints = 0;            ///< … locked 6-dofs (projectLockedConstraints)
 	int filteredJoints = 0;               ///< joints the filter left out (setFilter): not projected, not counted above
+	int skippedByOption = 0;              ///< joints of a kind the stabilizer projects whose option is off (project*)
+	int skippedUnexpressible = 0;         ///< Bullet joints in a form it cannot express (e.g. a btSliderConstraint, a 6-dof with free angles and linear axes)
+	int skippedFaulted = 0;               ///< faulted quaternion hinges (getFault), re-enabled without clearFault
+	int otherConstraints = 0;             ///< constraints of other types (gears, custom btTypedConstraints): never projected
 	int bodies = 0;                       ///< movable bodies in those islands
 	int attachedBodiesMoved = 0;          ///< attached bodies carried with their host (moveAttachedBodies)
 	int attachedConstraintsClosed = 0;    ///< attached bodies put on their constraint (closeAttachedConstraints)

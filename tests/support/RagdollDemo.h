@@ -1,0 +1,55 @@
+// Bullet's RagdollDemo ragdoll (the 2.x Demos/RagdollDemo; the same ragdoll is the RagDoll of bullet3's
+// examples/Benchmarks/BenchmarkDemo.cpp), built here in this project's own code from its published layout: 11 capsules
+// of 1 kg, hinges at the spine, knees and elbows, btConeTwistConstraints at the neck, hips and shoulders, the demo's
+// damping and sleeping thresholds, every joint added with collisions between its bodies disabled. The ground is a
+// static btCollisionObject, as the demo makes it, or a static btRigidBody (BenchmarkDemo's). Built when
+// QuatHinge::Stabilizer is (tests/test_stabilizer_ragdoll_demo.cpp).
+#ifndef QUATHINGE_TESTS_RAGDOLL_DEMO_H
+#define QUATHINGE_TESTS_RAGDOLL_DEMO_H
+
+#include <btBulletDynamicsCommon.h>
+
+#include <memory>
+#include <vector>
+
+namespace qh_test
+{
+enum class RagdollGround
+{
+	CollisionObject,  ///< a static btCollisionObject (RagdollDemo's ground)
+	StaticBody        ///< a static btRigidBody of mass 0
+};
+
+/// A world of RagdollDemo ragdolls on a ground box whose top is at y = 0 (gravity −10 m/s², Bullet's defaults otherwise).
+class RagdollDemoWorld
+{
+public:
+	explicit RagdollDemoWorld(RagdollGround ground);
+	~RagdollDemoWorld();
+	btDiscreteDynamicsWorld& world() { return *m_world; }
+	/// One ragdoll standing with its feet `offset` above the origin, turned by `yaw` about y, its pelvis spun at
+	/// `spin` rad/s about z (so that ragdolls fall differently).
+	void addRagdoll(const btVector3& offset, btScalar yaw, btScalar spin);
+	/// The largest pivot separation (m) of the world's enabled hinges, and of its cone twists.
+	void jointSeparations(double& hinge, double& cone) const;
+	/// The deepest penetration (m, ≥ 0) of a contact point into the ground at the bodies' current poses (the
+	/// manifolds' points on the bodies, against the ground's top y = 0).
+	double groundPenetration() const;
+
+private:
+	btRigidBody* body(btScalar mass, btCollisionShape* shape, const btTransform& pose);
+
+	btDefaultCollisionConfiguration m_config;
+	btCollisionDispatcher m_dispatcher;
+	btDbvtBroadphase m_broadphase;
+	btSequentialImpulseConstraintSolver m_solver;
+	std::unique_ptr<btDiscreteDynamicsWorld> m_world;
+	std::vector<std::unique_ptr<btCollisionShape>> m_shapes;
+	std::unique_ptr<btCollisionObject> m_groundObject;  // the ground as a btCollisionObject, or null
+	btCollisionObject* m_ground = nullptr;
+	std::vector<std::unique_ptr<btRigidBody>> m_bodies;
+	std::vector<std::unique_ptr<btTypedConstraint>> m_constraints;
+};
+}  // namespace qh_test
+
+#endif

@@ -1,0 +1,86 @@
+// Bullet's RagdollDemo ragdolls (tests/support/RagdollDemo.h: hinges and cone twists, the ground a static
+// btCollisionObject as the demo makes it, or a static btRigidBody) with the stabilizer's defaults, nothing else set:
+// every joint held from t = 0.5 s (the demo's frames start up to 0.1 m apart), and the ragdolls resting no deeper in
+// the ground than without the stabilizer. One ragdoll and a pile of 20, 60 Hz, 10 iterations.
+#ifdef QUATHINGE_HAVE_STABILIZER
+#include "support/RagdollDemo.h"
+#include "support/StabilizerScene.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+using namespace qh_test;
+
+namespace
+{
+struct RagdollFigures
+{
+	double hinge = 0;      // m: the largest hinge pivot separation from t = 0.5 s
+	double cone = 0;       // m: the largest cone-twist pivot separation from t = 0.5 s
+	double restDepth = 0;  // m: the mean over the last second of each step's deepest ground penetration
+	int skipped = 0;       // joints of Bullet's kinds the stabilizer left out (all reasons), the most in any step
+	int contactRows = 0;   // contact rows projected, summed over the run
+};
+
+// `count` ragdolls: one standing at the origin, or a pile of columns of five, each 1.8 m above the one below, turned
+// and spun differently; 4 s at 60 Hz.
+RagdollFigures run(RagdollGround ground, int count, bool stabilized)
+{
+	RagdollDemoWorld w(ground);
+	for (int i = 0; i < count; ++i)
+	{
+		const int column = i / 5, level = i % 5;
+		const btVector3 at(btScalar(0.4 * (column % 2) - 0.2), btScalar(0.2 + 1.8 * level), btScalar(0.4 * (column / 2) - 0.2));
+		w.addRagdoll(at, btScalar(0.9 * i), btScalar(std::sin(1.7 * i + 0.3)));
+	}
+	btQuaternionHingeStabilizer stabilizer;  // the defaults
+	if (stabilized) w.world().addAction(&stabilizer);
+	RagdollFigures f;
+	const int steps = 240, from = 30, lastSecond = 60;
+	for (int s = 0; s < steps; ++s)
+	{
+		w.world().stepSimulation(kTimeStep, 0, kTimeStep);
+		if (stabilized)
+		{
+			const btQuaternionHingeStabilizerStats& st = stabilizer.getLastStats();
+			f.skipped = std::max(f.skipped, st.skippedByOption + st.skippedUnexpressible + st.skippedFaulted);
+			f.contactRows += st.contactRows;
+		}
+		if (s + 1 >= from)
+		{
+			double hinge = 0, cone = 0;
+			w.jointSeparations(hinge, cone);
+			f.hinge = std::max(f.hinge, hinge);
+			f.cone = std::max(f.cone, cone);
+		}
+		if (s >= steps - lastSecond) f.restDepth += w.groundPenetration() / lastSecond;
+	}
+	if (stabilized) w.world().removeAction(&stabilizer);
+	return f;
+}
+
+void check(RagdollGround ground, int count)
+{
+	const RagdollFigures bare = run(ground, count, false), held = run(ground, count, true);
+	const char* groundName = ground == RagdollGround::CollisionObject ? "btCollisionObject" : "btRigidBody";
+	std::printf(
+		"[ measured ] %d ragdoll(s) on a %s ground, without -> with the stabilizer (defaults): hinges %.2e -> "
+		"%.2e m, cone twists %.2e -> %.2e m, resting ground penetration %.2e -> %.2e m, contact rows %d\n",
+		count, groundName, bare.hinge, held.hinge, bare.cone, held.cone, bare.restDepth, held.restDepth,
+		held.contactRows);
+	EXPECT_LE(held.hinge, kSeparationTolerance);
+	EXPECT_LE(held.cone, kSeparationTolerance);
+	EXPECT_LE(held.restDepth, bare.restDepth);
+	EXPECT_GT(held.contactRows, 0);
+	EXPECT_EQ(held.skipped, 0);
+}
+}  // namespace
+
+TEST(StabilizerRagdollDemo, OneRagdollOnACollisionObjectGround) { check(RagdollGround::CollisionObject, 1); }
+TEST(StabilizerRagdollDemo, OneRagdollOnARigidBodyGround) { check(RagdollGround::StaticBody, 1); }
+TEST(StabilizerRagdollDemo, APileOfTwentyOnACollisionObjectGround) { check(RagdollGround::CollisionObject, 20); }
+TEST(StabilizerRagdollDemo, APileOfTwentyOnARigidBodyGround) { check(RagdollGround::StaticBody, 20); }
+#endif
