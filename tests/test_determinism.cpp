@@ -44,7 +44,7 @@ const btScalar kLimitSlack = btScalar(0.1);  // rad: how far past a stop the san
 #ifdef BT_USE_DOUBLE_PRECISION
 #define QH_GOLDEN_HASH 0x498a2c689caba9d6ULL
 #else
-#define QH_GOLDEN_HASH 0xe70183069a052b31ULL
+#define QH_GOLDEN_HASH 0x94eb0d13902d887fULL
 #endif
 #elif defined(__aarch64__) && defined(__linux__) && !defined(BT_USE_DOUBLE_PRECISION)
 #define QH_GOLDEN_PLATFORM "aarch64 Linux, Bullet from source"

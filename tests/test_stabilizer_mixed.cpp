@@ -307,9 +307,9 @@ std::pair<Figures, Figures> bareAnd(Kind kind, const char* label)
 TEST(StabilizerMixed, RagdollDemoWithConeTwistsIsNoWorseWithTheStabilizer)
 {
 	// Tumbling ragdolls are chaotic: one run's largest error moves by half between two kinds that differ in the last
-	// bits. So each figure is the mean, over 8 runs that differ in the ragdolls' initial spin, of that run's largest.
+	// bits. So each figure is the mean, over 16 runs that differ in the ragdolls' initial spin, of that run's largest.
 	const int steps = 240;  // 4 s at 60 Hz: the fall, the landing and the ragdolls at rest
-	const int variants = 8;
+	const int variants = 16;
 	const Figures stock = meanOver(Kind::Stock, variants, steps);
 	const Figures bare = meanOver(Kind::Quaternion, variants, steps);
 	const Figures stabilized = meanOver(Kind::QuaternionStabilized, variants, steps);
