@@ -25,14 +25,15 @@ enum class Kind
 };
 const char* kindName(Kind k)
 {
-	return k == Kind::Stock ? "stock" : k == Kind::Quaternion ? "quaternion" : "quaternion+stab";
+	return k == Kind::Stock ? "stock" : k == Kind::Quaternion ? "quaternion"
+															  : "quaternion+stab";
 }
 
 // The pendulum: a 1 kg bar 1 m long (0.1 m square), hung from a static base at its top end, hinge about world z
 // through the origin; θ the bar's turn about +z from hanging straight down. g = 10 m/s².
 const double kMass = 1, kArm = 0.5, kGravity = 10;  // kg, m (pivot to centre of mass), m/s²
-const double kUpperStop = 1.0;                       // rad: gravity pulls the bar back out of it
-const double kLowerStop = -2.0;                      // rad: never reached
+const double kUpperStop = 1.0;                      // rad: gravity pulls the bar back out of it
+const double kLowerStop = -2.0;                     // rad: never reached
 
 struct StopRun
 {
@@ -128,16 +129,17 @@ StopRun throwIntoStop(Kind kind, btScalar relaxation, double throwSpeed, int sec
 
 void print(Kind kind, double relaxation, const StopRun& r, double w)
 {
-	std::printf("[ figures  ] %-16s w=%g r=%-4g leave %6.3f s  overshoot %8.2e rad  energy after %.4f J (ideal %.4f, %+6.2f%%)"
-				"  hit %.3f rad/s  bounce %.3f rad/s\n",
-				kindName(kind), w, relaxation, r.timeToLeave, r.overshoot, r.energyAfter, r.ideal,
-				100 * (r.energyAfter / r.ideal - 1), r.hitSpeed, r.bounceSpeed);
+	std::printf(
+		"[ figures  ] %-16s w=%g r=%-4g leave %6.3f s  overshoot %8.2e rad  energy after %.4f J (ideal %.4f, %+6.2f%%)"
+		"  hit %.3f rad/s  bounce %.3f rad/s\n",
+		kindName(kind), w, relaxation, r.timeToLeave, r.overshoot, r.energyAfter, r.ideal,
+		100 * (r.energyAfter / r.ideal - 1), r.hitSpeed, r.bounceSpeed);
 }
 // The throws: the stop met early, midway and late within a step (rad/s at θ = 0).
 const double throwSpeeds[] = {5.6, 6.0, 6.4};
-const double kLeaveBy = 0.5;         // s: stock leaves within 0.37 s (its stop row holds while past the stop)
-const double kMaxOvershoot = 1e-2;   // rad past the stop
-const double kEnergyTol = 0.05;      // of the ideal inelastic energy
+const double kLeaveBy = 0.5;        // s: stock leaves within 0.37 s (its stop row holds while past the stop)
+const double kMaxOvershoot = 1e-2;  // rad past the stop
+const double kEnergyTol = 0.05;     // of the ideal inelastic energy
 }  // namespace
 
 TEST(LimitPush, InelasticStopReleasesUnderGravity)
