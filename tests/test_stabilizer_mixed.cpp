@@ -340,7 +340,7 @@ TEST(StabilizerMixed, RagdollDemoWithItsConeTwistsProjectedHoldsEveryJoint)
 	// projection still does not see are the contacts, and it now removes the cone twists' error as well, the larger
 	// one: measured over 32 spins (README, "Mixed ragdolls"), the late ground penetration is 7.8e-3 m in float
 	// against 4.3e-3 bare and 5.7e-3 with the hinges alone. The contact bounds here guard that measurement (the same
-	// 8-spin sample as the test above), they do not claim "no worse".
+	// 8-spin sample the test above used), they do not claim "no worse".
 	const auto [bare, points] = bareAnd(Kind::QuaternionStabilizedPoints, "q+stab+points");
 	EXPECT_LE(points.coneSeparation, kSeparationTolerance);
 	EXPECT_LE(points.hingeSeparation, kSeparationTolerance);

@@ -21,6 +21,10 @@ AxialRow limitRow(const btQuaternionHingeSettings& s, const LimitState& limit, b
 	{
 		// reach the stop within this step, not beyond: approach rate at most distance·fps
 		row.error = -sign * limit.distance * fps;
+		// caught at the stop by the last step's row, and left a rounding's distance short of it (double lands there):
+		// the bounce of that hit all the same
+		const btScalar bounce = s.limitBiasFactor * sign * s.limitRelaxationFactor * impactSpeed;
+		if (impactSpeed > 0 && sign * bounce > sign * row.error) row.error = bounce;
 	}
 	else
 	{
