@@ -3,7 +3,8 @@
 # difference from the committed ones (CI: cmake/ci-fresh-debian.sh runs it in the fresh root after README's commands):
 #   bash demos/check_generated.sh        (30 s idle to 2.5 min busy on two cores, after the float and double builds)
 # Sections: results (docs/RESULTS.md, every column but the run time, from the same runs as make_report.sh's table,
-# references from the double build), glance (README.md), energy (docs/RESULTS.md), stabilized-joints
+# references from the double build), glance (README.md), energy (docs/RESULTS.md), energy-damping and forces
+# (docs/ENERGY.md; forces: the float and double test binaries, a few CPU seconds), stabilized-joints
 # (docs/STABILIZED_JOINTS.md) and picture (docs/RESULTS.md). Not checked: the timed columns and tables (CPU ms /
 # sim-s; bench, peers, sweep, soak: run time varies run to run) and the plots. The figures are bit-reproducible for a
 # given platform and binary (the runs use no clock and no thread-count dependent order), not across compilers or
@@ -33,5 +34,7 @@ $compare --models "$models" -s $scenes_table --reference-exe "$reference_build/d
   --markdown "$tmp/out/results.md" --readme "$tmp/docs/RESULTS.md" --front "$tmp/README.md" --note "-" >/dev/null
 QUATHINGE_BUILD_DIR=$build QUATHINGE_DOCS_DIR=$tmp/docs QUATHINGE_OUT_DIR=$tmp/out bash demos/make_energy.sh >/dev/null
 QUATHINGE_BUILD_DIR=$build QUATHINGE_DOCS_DIR=$tmp/docs QUATHINGE_OUT_DIR=$tmp/out bash demos/make_joints.sh >/dev/null
-/usr/bin/python3 demos/compare_sections.py . "$tmp" results glance energy energy-damping stabilized-joints picture
+QUATHINGE_BUILD_DIR=$build QUATHINGE_REFERENCE_BUILD=$reference_build QUATHINGE_DOCS_DIR=$tmp/docs \
+  QUATHINGE_OUT_DIR=$tmp/out bash demos/make_forces.sh >/dev/null
+/usr/bin/python3 demos/compare_sections.py . "$tmp" results glance energy energy-damping stabilized-joints picture forces
 echo "check_generated: passed in $(( $(date +%s) - start )) s"

@@ -4,7 +4,8 @@
 # Uses Debian's own /usr/bin/python3 (python3-matplotlib). Writes the plots to docs/images/, the table to
 # docs/images/results.md and into docs/RESULTS.md (between the results markers) and README.md's glance table (the
 # glance markers), the energy table (make_energy.sh), the stabilized-joints and picture tables (make_joints.sh), the
-# raw CSV/JSON to demos/out/. demos/check_generated.sh regenerates the deterministic columns and compares.
+# force scenes' table of docs/ENERGY.md (make_forces.sh), the raw CSV/JSON to demos/out/. demos/check_generated.sh
+# regenerates the deterministic columns and compares.
 # QUATHINGE_BUILD_DIR picks the build directory (default build/); QUATHINGE_MODELS_DIR the models (default demos/models).
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -43,3 +44,5 @@ above its start by more than 10× the energy scale (a runaway). Full data: \`$ou
 QUATHINGE_BUILD_DIR=$build bash demos/make_energy.sh
 # 5. the stabilized joints (docs/STABILIZED_JOINTS.md) and the front page's picture (docs/RESULTS.md, the picture markers)
 QUATHINGE_BUILD_DIR=$build bash demos/make_joints.sh
+# 6. the force scenes of tests/test_stabilizer_forces.cpp, float and double (docs/ENERGY.md, the forces markers)
+QUATHINGE_BUILD_DIR=$build QUATHINGE_REFERENCE_BUILD=$reference_build bash demos/make_forces.sh

@@ -128,6 +128,8 @@ ForceRecord runForceChain(const ForceChain& chain, const ForceHooks& hooks, Forc
 		if (hooks.before) hooks.before(scene, links, anchor, joints, step * h, h);
 		scene.world().stepSimulation(btScalar(h), 0, btScalar(h));
 		r.energy.push_back(energy());
+		if (kind == ForceKind::Stabilized && r.guardTrip < 0 && stabilizer.getLastStats().energyGuardedIslands > 0)
+			r.guardTrip = (step + 1) * h;
 		if (kind != ForceKind::Stock)
 		{
 			double separation, misalignment;

@@ -42,6 +42,7 @@ struct ForceRecord
 	double maxSeparation = 0;   // m (quaternion hinges)
 	double angularDrift = 0;    // max |L − L₀| / |L₀| (a free chain)
 	double linearMomentum = 0;  // max |P − P₀| (kg·m/s, a free chain)
+	double guardTrip = -1;      // s: the end of the first step whose stabilizer guarded an island (−1: none)
 	bool finite = true;
 	/// The mean energy over [t0, t1) s.
 	double mean(double t0, double t1) const;
