@@ -97,6 +97,13 @@ def ident(t):
 
 def declared_names(stmt):
     """[(kind, name)] declared by one statement ending in ';' (or a function definition's head)."""
+    while stmt[:2] == ['[', '[']:  # a leading attribute ([[deprecated("...")]], [[nodiscard]]): not a name
+        depth, k = 0, 0
+        for k, t in enumerate(stmt):
+            depth += (t == '[') - (t == ']')
+            if depth == 0:
+                break
+        stmt = stmt[k + 1:]
     if not stmt or stmt[0] in ('friend', 'using', 'static_assert'):
         return []
     if stmt[0] == 'typedef':
