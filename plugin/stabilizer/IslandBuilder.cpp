@@ -379,6 +379,8 @@ std::unique_ptr<Island> buildOne(const Array<SignatureEntry>& entries, bool forc
 		if (kind != kJointKinds) ++island.jointsOfKind[kind];
 		slot.limitActive = slot.limitActiveInFactor = false;
 		slot.limitTouched = 0;
+		slot.held = false;
+		slot.heldRate = 0;
 		slot.linearThreshold = slot.angularThreshold = 0;
 		slot.limitGradient.setZero();
 		for (int side = 0; side < 2; ++side)

@@ -389,8 +389,10 @@ void readAngleReferences(Island& island)
 			if (!js.limitSlot) continue;
 			const btTransform& tA = js.rigid[0]->getCenterOfMassTransform();
 			js.angleReference = frameHingeLimitVariable(*js.frameHinge, js.hinge, tA, js.rigid[1]->getCenterOfMassTransform());
-			js.lowerStop = js.hinge.low;
-			js.upperStop = js.hinge.high;
+			js.held = js.hinge.driven;
+			// a slot for a drive alone: stops that are never met
+			js.lowerStop = js.hinge.limit ? js.hinge.low : -SIMD_INFINITY;
+			js.upperStop = js.hinge.limit ? js.hinge.high : SIMD_INFINITY;
 			continue;
 		}
 		if (!js.limitSlot) continue;

@@ -138,9 +138,11 @@ PositionResidual evaluatePositions(BlockIsland<R>& island, btScalar tolerance)
 			if (js.angle < js.lowerStop) js.limitTouched = 1;
 			else if (js.angle > js.upperStop) js.limitTouched = -1;
 		}
-		js.limitActive = js.limitTouched != 0;
+		// a driven axis is held at its angle at the step's start (StockHingeRows.h, "Drive"), unless past a stop
+		js.limitActive = js.limitTouched != 0 || js.held;
 		const int r = js.bilateralRows;
-		const btScalar stop = js.limitTouched > 0 ? js.lowerStop : js.upperStop;
+		const btScalar stop = js.limitTouched > 0 ? js.lowerStop : js.limitTouched < 0 ? js.upperStop
+																					   : js.angleReference;
 		jb.c[r] = js.limitActive ? js.angle - stop : 0;
 		if (js.limitActive) jb.jacobian.row(r) = js.limitGradient;
 		else jb.jacobian.row(r).setZero();
@@ -198,7 +200,10 @@ VelocityResidual evaluateVelocities(BlockIsland<R>& island, bool decideLimits, b
 			{
 				// α̇ = 0 only while moving further past a stop violated this step (lower: α̇ < 0, upper: α̇ > 0).
 				const double rate = js.limitGradient.dot(v.transpose());
-				js.limitActive = (js.limitTouched > 0 && rate < 0) || (js.limitTouched < 0 && rate > 0);
+				const bool stopped = (js.limitTouched > 0 && rate < 0) || (js.limitTouched < 0 && rate > 0);
+				// a driven axis keeps the rate Bullet's step gave it (0 while pushing into a stop): its row's target
+				js.limitActive = stopped || js.held;
+				js.heldRate = js.held && !stopped ? btScalar(rate) : btScalar(0);
 			}
 			if (js.limitActive) jb.jacobian.row(r) = js.limitGradient;
 			else jb.jacobian.row(r).setZero();
@@ -206,6 +211,8 @@ VelocityResidual evaluateVelocities(BlockIsland<R>& island, bool decideLimits, b
 		}
 		if (js.contact >= 0 && js.contactTouched != js.contactActiveInFactor) res.limitsChanged = true;
 		jb.jv.noalias() = jb.jacobian * v;
+		// a held row's J v is α̇ less its target (heldRate: 0 for a limit row)
+		if (js.limitSlot && js.limitActive) jb.jv[js.bilateralRows] -= double(js.heldRate);
 		if (js.contact >= 0 && !js.rigid[1])  // a fixed partner's own velocity: Ċ_r = J_r v − s_r n_r·v_partner
 		{
 			const ContactSet& set = island.contacts[size_t(js.contact)];

@@ -178,6 +178,8 @@ struct JointSlot
 	bool limitActive;                            // the limit row is in the system (else a padding row)
 	bool limitActiveInFactor;                    // … as it was when K was last factorized
 	int limitTouched;                            // +1 the lower stop, −1 the upper stop was violated this step, 0 neither
+	bool held;                                   // the slot holds a driven axis (a 6-dof's drive: StockHingeRows.h) where the step left it
+	btScalar heldRate;                           // … at the rate it had (rad/s; 0 while a stop is pushed into)
 	unsigned contactTouched;                     // a contact slot: bit r set once row r penetrated this step (then in the system)
 	unsigned contactReleased;                    // … and bit r once row r pulled (λ < 0) and was taken out for the rest of the step
 	unsigned contactActiveInFactor;              // … as it was when K was last factorized

@@ -99,6 +99,10 @@ btScalar dofAngleSign(int order, int axis)
 	return table.sign[order >= RO_XYZ && order <= RO_ZYX ? order : RO_XYZ][axis];
 }
 
+// A drive on a rotational axis: a motor (velocity or, 6dof2, servo) or a 6dof2 spring.
+inline bool drives(const btRotationalLimitMotor& m) { return m.m_enableMotor; }
+inline bool drives(const btRotationalLimitMotor2& m) { return m.m_enableMotor || m.m_enableSpring; }
+
 // The 6-dof's members this reads, through its public accessors (the limits' getters copy into vectors and are not
 // const; the motors are its own members): the same for both classes, which share no base with them.
 template <typename Dof>
@@ -111,6 +115,7 @@ struct DofView
 	const btVector3& linearHigh() const { return dof.getTranslationalLimitMotor()->m_upperLimit; }
 	btScalar angularLow(int i) const { return dof.getRotationalLimitMotor(i)->m_loLimit; }
 	btScalar angularHigh(int i) const { return dof.getRotationalLimitMotor(i)->m_hiLimit; }
+	bool driven(int i) const { return drives(*dof.getRotationalLimitMotor(i)); }
 };
 
 // lo > hi: free; [−π, π] (the 6-dof wraps its limits into it) holds every wrapped angle
@@ -159,6 +164,7 @@ void readDofFrames(const View& d, FrameHinge& out)
 								   bb[2][next], bb[2][last], bb[2][free]);
 	const btScalar lo = d.angularLow(free), hi = d.angularHigh(free);
 	out.limit = dofLimitActs(lo, hi);
+	out.driven = d.driven(free);
 	out.low = lo;
 	out.high = hi;
 }
@@ -169,7 +175,7 @@ bool readDof(const View& d, int order, FrameHinge* out, bool* limit, unsigned* s
 {
 	const int free = dofFreeAxis(d);
 	if (free < 0) return false;
-	if (limit) *limit = dofLimitActs(d.angularLow(free), d.angularHigh(free));
+	if (limit) *limit = dofLimitActs(d.angularLow(free), d.angularHigh(free)) || d.driven(free);
 	const unsigned kept = unsigned(free) | unsigned(order) << 2;
 	if (shape) *shape = kept;
 	if (!out) return true;

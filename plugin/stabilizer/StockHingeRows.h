@@ -19,8 +19,10 @@
 //     stop, as the 6-dof tests it), stops lo and hi (the 6-dof's limits, which it wraps into [−π, π]); acts iff lo < hi
 //     and the range is not the whole turn; σθ is the 6-dof's own angle of that axis (getAngle: its Euler angle, ±θ by
 //     rotation order and axis; for the middle axis of its order within ±90°, where its asin reaches).
-// Softness is stored and unused by stock, and not used here; motors, servos and springs act along the free axis and
-// are not projected.
+// Softness is stored and unused by stock, and not used here.
+// Drive. A 6-dof's motor, servo or spring on its free axis (`driven`) is not projected, and the projection does not
+// move that axis either: the limit slot holds the axis where Bullet's step left it (IslandRows.h), in angle and rate,
+// so that the correction of a joint beside it (a weld at the wrist) does not turn the driven joint against its drive.
 #ifndef QUATHINGE_STABILIZER_STOCK_HINGE_ROWS_H
 #define QUATHINGE_STABILIZER_STOCK_HINGE_ROWS_H
 
@@ -51,6 +53,7 @@ FrameHinge
 	bool angularOnly = false;
 	btScalar sign = 1;            // the joint's own angle is sign·θ (Q11)
 	bool limit = false;           // a limit that can act (above)
+	bool driven = false;          // a 6-dof: a motor, servo or spring on the free axis (above)
 	bool adjustToLimits = false;  // the step's first v: btAdjustAngleToLimits (6-dof), else wrapped about the centre
 	int dofAxis = 2;              // a 6-dof: its free axis (x, y, z: 0–2)
 	btScalar center = 0;          // c: v = sign·θ − c (0 for a 6-dof)
@@ -58,7 +61,8 @@ FrameHinge
 };
 
 /// The kind of `c` (None: neither, or not set up as a hinge; kinds not asked for are None), and, when not None, its
-/// frames and limit into `out` (may be null: the kind alone, with the limit's ability to act in `limit`), and its
+/// frames and limit into `out` (may be null: the kind alone, with its need of a limit slot in `limit`: a limit that can
+/// act, or a 6-dof's drive on its free axis), and its
 /// shape into `shape` (0 for a stock hinge; a 6-dof's free axis, bits 0–1, and its rotation order, bits 2–4).
 FrameHingeKind readFrameHinge(const btTypedConstraint& c, bool stockHinges, bool dofHinges, FrameHinge* out,
 							  bool* limit = nullptr, unsigned* shape = nullptr);
@@ -70,7 +74,7 @@ void setDofHingeShape(unsigned shape, FrameHinge& hinge);
 
 /// The frames and limit of a hinge read before (readFrameHinge or setDofHingeShape) as they are now: what the
 /// joint's public API can change between steps (a stock hinge's setFrames, setLimit, setAngularOnly; a 6-dof's
-/// frames, its locked linear values and its free axis's limits). Read every step: a few loads and the frame product,
+/// frames, its locked linear values and its free axis's limits and drive). Read every step: a few loads and the frame product,
 /// no more than comparing them with a kept copy would take.
 void refreshFrameHinge(const btTypedConstraint& c, FrameHinge& hinge);
 

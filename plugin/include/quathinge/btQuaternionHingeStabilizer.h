@@ -72,6 +72,8 @@ struct btQuaternionHingeStabilizerSettings
 	/// with their three linear axes locked (low == high, at any value), exactly one angular axis free or limited (any
 	/// of x, y, z) and the other two locked at 0 — the same rows on their frames turned so that ẑ is the free axis, and
 	/// a limit row on the 6-dof's own angle of that axis with its limits (wrapped, the nearer stop; lo > hi free).
+	/// With projectLimits, a free axis with a motor, servo or spring enabled is held by that row at the angle and rate
+	/// Bullet's step left it (the projection does not turn a driven joint to close the joints beside it).
 	/// Such a 6-dof is a hinge here, not a point constraint (projectPointConstraints). On by default.
 	bool projectDofHinges = true;
 	/// Also project the pivots of Bullet's point constraints, btPoint2PointConstraint, btConeTwistConstraint (its
