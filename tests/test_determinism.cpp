@@ -48,7 +48,7 @@ const btScalar kLimitSlack = btScalar(0.1);  // rad: how far past a stop the san
 #endif
 #elif defined(__aarch64__) && defined(__linux__) && !defined(BT_USE_DOUBLE_PRECISION)
 #define QH_GOLDEN_PLATFORM "aarch64 Linux, Bullet from source"
-#define QH_GOLDEN_HASH 0x393604adf94454afULL
+#define QH_GOLDEN_HASH 0x173f7ed8e52d5cdbULL
 #elif defined(_WIN64) && defined(__MINGW64__) && !defined(BT_USE_DOUBLE_PRECISION)
 #define QH_GOLDEN_PLATFORM "Windows x86-64 MinGW-w64, Bullet from source"
 #define QH_GOLDEN_HASH 0x3ae108447d8f3bf8ULL
