@@ -42,9 +42,9 @@ const btScalar kLimitSlack = btScalar(0.1);  // rad: how far past a stop the san
 #if defined(__x86_64__) && defined(__linux__)
 #define QH_GOLDEN_PLATFORM "x86-64 Linux, Debian's Bullet"
 #ifdef BT_USE_DOUBLE_PRECISION
-#define QH_GOLDEN_HASH 0xcd09ba2508c937bbULL
+#define QH_GOLDEN_HASH 0x498a2c689caba9d6ULL
 #else
-#define QH_GOLDEN_HASH 0x637a73ff46756437ULL
+#define QH_GOLDEN_HASH 0xe70183069a052b31ULL
 #endif
 #elif defined(__aarch64__) && defined(__linux__) && !defined(BT_USE_DOUBLE_PRECISION)
 #define QH_GOLDEN_PLATFORM "aarch64 Linux, Bullet from source"
