@@ -92,20 +92,21 @@ mount_in --bind /dev "$root/dev"
 mount_in --bind /dev/pts "$root/dev/pts"
 mount_in -t tmpfs tmpfs "$root/dev/shm"
 
-for command in "${commands[@]}"; do
-  step "in the fresh root: $command"
+# One command inside the root, in the clone, with a clean environment; timed, and fatal when it fails.
+in_root() {
+  local command=$1 t0
   t0=$(date +%s)
   chroot "$root" /usr/bin/env -i HOME=/root LANG=C.UTF-8 TERM=dumb \
     PATH=/usr/local/sbin:/usr/local/bin:/usr/sbin:/usr/bin:/sbin:/bin \
     /bin/bash -c "cd /root/QuatHinge && $command" || fail "'$command' in the fresh root"
   echo "ci-fresh-debian: '$command' passed in $(( $(date +%s) - t0 )) s"
+}
+for command in "${commands[@]}"; do
+  step "in the fresh root: $command"
+  in_root "$command"
 done
 step "all README commands passed in a fresh Debian 12 root"
 for command in ${after[@]+"${after[@]}"}; do
   step "in the fresh root, after README's commands: $command"
-  t0=$(date +%s)
-  chroot "$root" /usr/bin/env -i HOME=/root LANG=C.UTF-8 TERM=dumb \
-    PATH=/usr/local/sbin:/usr/local/bin:/usr/sbin:/usr/bin:/sbin:/bin \
-    /bin/bash -c "cd /root/QuatHinge && $command" || fail "'$command' in the fresh root"
-  echo "ci-fresh-debian: '$command' passed in $(( $(date +%s) - t0 )) s"
+  in_root "$command"
 done
