@@ -94,28 +94,39 @@ TEST(StabilizerEnergyScenes, LoadedChainsStayBoundedWithoutGain)
 
 namespace
 {
+// Allowed to sleep with Bullet's defaults (0.8 m/s, 1 rad/s for 2 s), up to `seconds` at 60 Hz, 10 iterations.
 struct Settling
 {
-	double sleepTime = -1;  // s until every body is asleep; −1 if not within the run
-	double jitter = 0;      // m/s: RMS centre-of-mass speed over the bodies and the last second before sleep or the end
+	double sleepTime = -1;          // s until every body is asleep; −1 if not within the run
+	int touchingSteps = 0;          // steps in which the scene had contact points (the ragdoll on the ground)
+	int restoredWhileTouching = 0;  // … of which steps in which keepEnergyAndMomentum scaled its velocities
 };
 
-// `scene` allowed to sleep (Bullet's defaults: 0.8 m/s, 1 rad/s for 2 s), stabilized, keepEnergyAndMomentum as asked,
-// up to `seconds` at 60 Hz.
-Settling settle(SceneSpec scene, bool keep, double seconds)
+// `scene` as `kind` (Quaternion: no stabilizer; QuaternionStabilized: keepEnergyAndMomentum as `keep`).
+Settling settle(SceneSpec scene, Kind kind, bool keep, double seconds)
 {
 	scene.allowSleep = true;
-	Simulation sim(scene, Kind::QuaternionStabilized);
-	btQuaternionHingeStabilizerSettings settings = sim.stabilizer()->getSettings();
-	settings.keepEnergyAndMomentum = keep;
-	sim.stabilizer()->setSettings(settings);
+	Simulation sim(scene, kind);
+	if (btQuaternionHingeStabilizer* stabilizer = sim.stabilizer())
+	{
+		btQuaternionHingeStabilizerSettings settings = stabilizer->getSettings();
+		settings.keepEnergyAndMomentum = keep;
+		stabilizer->setSettings(settings);
+	}
 	Settling s;
 	const double dt = 1.0 / 60;
-	double sum = 0;
-	int samples = 0;
 	for (int step = 1; step <= int(seconds / dt); ++step)
 	{
 		sim.step(dt, 10);
+		bool touching = false;
+		btDispatcher& dispatcher = *sim.world().getDispatcher();
+		for (int m = 0; m < dispatcher.getNumManifolds() && !touching; ++m)
+			touching = dispatcher.getManifoldByIndexInternal(m)->getNumContacts() > 0;
+		if (touching)
+		{
+			++s.touchingSteps;
+			if (sim.stabilizer() && sim.stabilizer()->getLastStats().energyRestoredIslands > 0) ++s.restoredWhileTouching;
+		}
 		bool asleep = true;
 		for (const btRigidBody* b : sim.bodies) asleep = asleep && !b->isActive();
 		if (asleep)
@@ -123,35 +134,63 @@ Settling settle(SceneSpec scene, bool keep, double seconds)
 			s.sleepTime = step * dt;
 			break;
 		}
-		if (step * dt > seconds - 1 || step * dt > 3)  // the last second, or the settling before sleep (from 3 s)
-			for (const btRigidBody* b : sim.bodies)
-			{
-				sum += double(b->getLinearVelocity().length2());
-				++samples;
-			}
 	}
-	s.jitter = samples > 0 ? std::sqrt(sum / samples) : 0;
 	return s;
+}
+
+// How many of `drops` fell asleep, and the median time of those that did (s; −1 if none).
+struct SleepCount
+{
+	int asleep = 0;
+	double medianTime = -1;
+};
+SleepCount countAsleep(const std::vector<Settling>& drops)
+{
+	std::vector<double> times;
+	for (const Settling& d : drops)
+		if (d.sleepTime > 0) times.push_back(d.sleepTime);
+	SleepCount c;
+	c.asleep = int(times.size());
+	if (!times.empty())
+	{
+		std::sort(times.begin(), times.end());
+		c.medianTime = times[times.size() / 2];
+	}
+	return c;
 }
 }  // namespace
 
 TEST(StabilizerEnergyScenes, RestingBodiesStillFallAsleep)
 {
-	// Keeping the energy must not keep bodies awake: a ragdoll dropped on the ground and 50 chains hanging at rest
-	// still fall asleep within the run, as with the projection's own damping (figures: docs/ENERGY.md).
+	// Keeping the energy must not keep bodies awake. The restoration does not act on an island touching anything
+	// outside it, so a ragdoll on the ground settles with the projection's own damping: checked in every step of
+	// kDrops drops (the ragdoll scene's seeds 1..kDrops: different spins), in which no velocity may be scaled while the
+	// ragdoll touches the ground. Whether a drop ends asleep within kSeconds is chaotic (a last tumble, a limb resting
+	// on a stop: it changes with the compiler and the platform), so the outcome is counted over the drops, with the
+	// restoration, without it and without a stabilizer, and printed; kMinAsleep of them must sleep with the defaults.
+	// 50 chains hanging at rest (not chaotic: they reach the rest cache's fixed point) fall asleep either way.
+	const int kDrops = 30;
+	const int kMinAsleep = 20;   // drops of kDrops asleep within kSeconds with the defaults (a guard against keeping
+								 // resting bodies awake wholesale, not a target: see docs/ENERGY.md, "Sleep")
 	const double kSeconds = 20;  // s of simulation at most
-	const Settling ragdollOff = settle(ragdollScene(1), false, kSeconds), ragdollOn = settle(ragdollScene(1), true, kSeconds);
-	const Settling chainsOff = settle(restScene(50, 10, true), false, kSeconds),
-				   chainsOn = settle(restScene(50, 10, true), true, kSeconds);
-	std::printf(
-		"[ figures  ] time to sleep: ragdoll %.3g s (before %.3g s), 50 chains at rest %.3g s (before %.3g s); "
-		"RMS speed while settling: ragdoll %.3g m/s (before %.3g), chains %.3g m/s (before %.3g)\n",
-		ragdollOn.sleepTime, ragdollOff.sleepTime, chainsOn.sleepTime, chainsOff.sleepTime, ragdollOn.jitter,
-		ragdollOff.jitter, chainsOn.jitter, chainsOff.jitter);
-	if (ragdollOff.sleepTime > 0)
+	std::vector<Settling> bare, off, on;
+	for (int seed = 1; seed <= kDrops; ++seed)
 	{
-		EXPECT_GT(ragdollOn.sleepTime, 0);
+		bare.push_back(settle(ragdollScene(unsigned(seed)), Kind::Quaternion, false, kSeconds));
+		off.push_back(settle(ragdollScene(unsigned(seed)), Kind::QuaternionStabilized, false, kSeconds));
+		on.push_back(settle(ragdollScene(unsigned(seed)), Kind::QuaternionStabilized, true, kSeconds));
+		EXPECT_GT(on.back().touchingSteps, 0) << "seed " << seed;
+		EXPECT_EQ(on.back().restoredWhileTouching, 0) << "seed " << seed;
 	}
+	const SleepCount bareCount = countAsleep(bare), offCount = countAsleep(off), onCount = countAsleep(on);
+	const Settling chainsOff = settle(restScene(50, 10, true), Kind::QuaternionStabilized, false, kSeconds),
+				   chainsOn = settle(restScene(50, 10, true), Kind::QuaternionStabilized, true, kSeconds);
+	std::printf("[ figures  ] ragdoll drops asleep within %.0f s: %d of %d with keepEnergyAndMomentum (median %.3g s), "
+				"%d without it (median %.3g s), %d without a stabilizer (median %.3g s); 50 chains at rest asleep "
+				"after %.3g s (without the restoration %.3g s)\n",
+				kSeconds, onCount.asleep, kDrops, onCount.medianTime, offCount.asleep, offCount.medianTime,
+				bareCount.asleep, bareCount.medianTime, chainsOn.sleepTime, chainsOff.sleepTime);
+	EXPECT_GE(onCount.asleep, kMinAsleep);
 	if (chainsOff.sleepTime > 0)
 	{
 		EXPECT_GT(chainsOn.sleepTime, 0);
