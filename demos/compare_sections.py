@@ -6,36 +6,19 @@ timed columns (run time varies run to run); used by demos/check_generated.sh.
 
 Fails (exit 1) on a section missing from either copy, a table of another shape, or any differing cell.
 """
-import pathlib
-import re
 import sys
 
+from report_tables import sections, tables
+
 TIMED = {"CPU ms / sim-s"}  # columns left out: each run's own thread CPU time
-SECTION_RE = re.compile(r"<!-- ([\w-]+):begin -->\n(.*?)\n<!-- \1:end -->", re.S)
-
-
-def sections(root):
-    root = pathlib.Path(root)
-    found = {}
-    for page in [root / "README.md"] + sorted((root / "docs").glob("*.md")):
-        for m in SECTION_RE.finditer(page.read_text()):
-            found[m.group(1)] = (page.name, m.group(2))
-    return found
 
 
 def rows(body):
-    """Table rows (header rows included), separator rows dropped, timed columns blanked."""
-    out, header = [], None
-    for line in body.splitlines():
-        if not line.startswith("|"):
-            header = None
-            continue
-        cells = [c.strip() for c in line.strip().strip("|").split("|")]
-        if all(re.fullmatch(r":?-+:?", c) for c in cells):
-            continue
-        if header is None:
-            header = cells
-        out.append([("(timed)" if h in TIMED else c) for h, c in zip(header, cells)])
+    """Table rows (header rows included), timed columns blanked."""
+    out = []
+    for header, cells in tables(body):
+        for row in [header] + cells:
+            out.append([("(timed)" if h in TIMED else c) for h, c in zip(header, row)])
     return out
 
 

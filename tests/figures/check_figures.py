@@ -27,16 +27,14 @@ import pathlib
 import re
 import sys
 
+sys.path.insert(0, str(pathlib.Path(__file__).resolve().parents[2] / "demos"))
+from report_tables import pages, sections, tables  # noqa: E402 (the reports' own reader)
+
 NUMBER = r"[-−]?\d+(?:\.\d+)?(?:e[-+−]?\d+)?"
 NUMBER_RE = re.compile(r"(?<![\w.])" + NUMBER + r"(?![\w.]*\d)")
 UNIT = r"(?:\s?(?:µm|mm|m|rad|ms|µs|s|Hz|k|M)\b|\s?[%×°])"
 FIGURE_RE = re.compile(r"(?<![\w.\-−/])[-−]?(?:\d+\.\d+(?:e[-+−]?\d+)?|\d+e[-+−]?\d+|\d+" + UNIT + r")(?![\w.]*\d)")
 FIG_RE = re.compile(r"<!-- fig (?P<section>[\w-]+): (?P<queries>.*?) -->")
-SECTION_RE = re.compile(r"<!-- ([\w-]+):begin -->\n(.*?)\n<!-- \1:end -->", re.S)
-
-
-def pages(src):
-    return [src / "README.md"] + sorted((src / "docs").glob("*.md"))
 
 
 def value(text):
@@ -50,29 +48,9 @@ def value(text):
     return float(text), 0.5 * 10.0 ** (exponent - decimals)
 
 
-def tables(body):
-    """Every Markdown table of a section: a list of rows, each a dict column -> cell."""
-    out, header = [], None
-    for line in body.splitlines():
-        if not line.startswith("|"):
-            header = None
-            continue
-        cells = [c.strip() for c in line.strip().strip("|").split("|")]
-        if header is None:
-            header = cells
-        elif all(re.fullmatch(r":?-+:?", c) for c in cells):
-            continue
-        else:
-            out.append(dict(zip(header, cells)))
-    return out
-
-
-def sections(src):
-    found = {}
-    for page in pages(src):
-        for m in SECTION_RE.finditer(page.read_text()):
-            found[m.group(1)] = (page.name, m.group(2))
-    return found
+def table_rows(body):
+    """Every row of a section's Markdown tables, as a dict column -> cell."""
+    return [dict(zip(header, row)) for header, rows in tables(body) for row in rows]
 
 
 def answer(rows, query):
@@ -146,7 +124,7 @@ def check(src):
             if m.group("section") not in found:
                 errors.append(f"{name}:{lineno(m.start())}: no generated section '{m.group('section')}'")
                 continue
-            rows = tables(found[m.group("section")][1])
+            rows = table_rows(found[m.group("section")][1])
             for number, query in zip(numbers, queries):
                 covered.add(line_start + number.start())
                 quoted = value(number.group(0))
