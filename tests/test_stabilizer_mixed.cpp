@@ -1,11 +1,13 @@
 // Mixed ragdolls (issue 15): the layout of Bullet's RagdollDemo (bullet3, examples/RagdollDemo/RagdollDemo.cpp in the
 // 2.x demos: 11 capsules, hinges at the spine, knees and elbows, btConeTwistConstraints at the neck, hips and
-// shoulders, its damping and sleeping thresholds), four of them dropped on a ground box, their stock hinges swapped
+// shoulders, its damping and sleeping thresholds: tests/support/RagdollDemo.h), four of them dropped on a ground box
+// (a static btRigidBody), their stock hinges swapped
 // for quaternion hinges one at a time by removeConstraint and addConstraint, as an app swapping its own hinges by
 // hand would. The stabilizer projects only the quaternion hinges; it must not make what it does not see worse: the
 // cone twists' pivot separation and how far the bodies sink into the ground and into each other, against the same
 // world without it. Built when QuatHinge::Stabilizer is.
 #ifdef QUATHINGE_HAVE_STABILIZER
+#include "support/RagdollDemo.h"
 #include "support/StabilizerScene.h"
 
 #include <gtest/gtest.h>
@@ -42,26 +44,14 @@ struct Figures
 	double coneSeparationLate = 0, groundPenetrationLate = 0, bodyPenetrationLate = 0;
 };
 
-btTransform frame(btScalar yaw, btScalar pitch, btScalar roll, const btVector3& origin)
-{
-	btTransform t;
-	t.setIdentity();
-	t.getBasis().setEulerZYX(yaw, pitch, roll);
-	t.setOrigin(origin);
-	return t;
-}
-
 class MixedRagdolls
 {
 public:
-	MixedRagdolls(Kind kind, int variant)
-		: m_dispatcher(&m_config),
-		  m_world(new btDiscreteDynamicsWorld(&m_dispatcher, &m_broadphase, &m_solver, &m_config))
+	MixedRagdolls(Kind kind, int variant) : m_demo(RagdollGround::StaticBody), m_world(&m_demo.world())
 	{
-		m_world->setGravity(btVector3(0, -10, 0));
-		m_ground = body(0, new btBoxShape(btVector3(200, 10, 200)), frame(0, 0, 0, btVector3(0, -10, 0)));
 		for (int i = 0; i < 4; ++i)
-			ragdoll(btVector3(btScalar(2 * i - 3), btScalar(0.5 + 0.3 * i), 0), btScalar(i - 1.5 + 0.37 * variant));
+			m_demo.addRagdoll(btVector3(btScalar(2 * i - 3), btScalar(0.5 + 0.3 * i), 0), 0,
+							  btScalar(i - 1.5 + 0.37 * variant));
 		if (kind != Kind::Stock)
 		{
 			// Each stock hinge removed and its replacement added, one at a time, as an app replacing its own hinges by
@@ -147,7 +137,7 @@ public:
 			for (int m = 0; m < d.getNumManifolds(); ++m)
 			{
 				const btPersistentManifold* manifold = d.getManifoldByIndexInternal(m);
-				const bool onGround = manifold->getBody0() == m_ground || manifold->getBody1() == m_ground;
+				const bool onGround = manifold->getBody0() == m_demo.ground() || manifold->getBody1() == m_demo.ground();
 				for (int p = 0; p < manifold->getNumContacts(); ++p)
 				{
 					double& deepest = onGround ? ground : parts;
@@ -168,98 +158,11 @@ public:
 	}
 
 private:
-	btRigidBody* body(btScalar mass, btCollisionShape* shape, const btTransform& pose)
-	{
-		m_shapes.emplace_back(shape);
-		btVector3 inertia(0, 0, 0);
-		if (mass > 0) shape->calculateLocalInertia(mass, inertia);
-		btRigidBody::btRigidBodyConstructionInfo info(mass, nullptr, shape, inertia);
-		info.m_startWorldTransform = pose;
-		m_bodies.emplace_back(new btRigidBody(info));
-		m_world->addRigidBody(m_bodies.back().get());
-		return m_bodies.back().get();
-	}
-
-	// RagdollDemo's ragdoll at `offset`, its pelvis given a spin about z so that each of the four falls differently.
-	void ragdoll(const btVector3& offset, btScalar spin)
-	{
-		const btScalar halfPi = SIMD_HALF_PI, quarterPi = SIMD_PI / 4;
-		struct Part
-		{
-			btScalar radius, height;
-			btVector3 centre;
-			btScalar roll;  // about z: the arms lie along x
-		};
-		const Part parts[11] = {
-			{btScalar(0.15), btScalar(0.20), btVector3(0, 1, 0), 0},                                  // pelvis
-			{btScalar(0.15), btScalar(0.28), btVector3(0, btScalar(1.2), 0), 0},                      // spine
-			{btScalar(0.10), btScalar(0.05), btVector3(0, btScalar(1.6), 0), 0},                      // head
-			{btScalar(0.07), btScalar(0.45), btVector3(btScalar(-0.18), btScalar(0.65), 0), 0},       // left thigh
-			{btScalar(0.05), btScalar(0.37), btVector3(btScalar(-0.18), btScalar(0.2), 0), 0},        // left shin
-			{btScalar(0.07), btScalar(0.45), btVector3(btScalar(0.18), btScalar(0.65), 0), 0},        // right thigh
-			{btScalar(0.05), btScalar(0.37), btVector3(btScalar(0.18), btScalar(0.2), 0), 0},         // right shin
-			{btScalar(0.05), btScalar(0.33), btVector3(btScalar(-0.35), btScalar(1.45), 0), halfPi},  // left upper arm
-			{btScalar(0.04), btScalar(0.25), btVector3(btScalar(-0.7), btScalar(1.45), 0), halfPi},   // left forearm
-			{btScalar(0.05), btScalar(0.33), btVector3(btScalar(0.35), btScalar(1.45), 0), -halfPi},  // right upper arm
-			{btScalar(0.04), btScalar(0.25), btVector3(btScalar(0.7), btScalar(1.45), 0), -halfPi},   // right forearm
-		};
-		btRigidBody* b[11];
-		for (int i = 0; i < 11; ++i)
-		{
-			b[i] = body(1, new btCapsuleShape(parts[i].radius, parts[i].height),
-						frame(0, 0, parts[i].roll, parts[i].centre + offset));
-			b[i]->setDamping(btScalar(0.05), btScalar(0.85));
-			b[i]->setDeactivationTime(btScalar(0.8));
-			b[i]->setSleepingThresholds(btScalar(1.6), btScalar(2.5));
-		}
-		b[0]->setAngularVelocity(btVector3(0, 0, spin));
-		auto hinge = [&](int a, int c, const btTransform& fa, const btTransform& fb, btScalar low, btScalar high) {
-			auto* h = new btHingeConstraint(*b[a], *b[c], fa, fb);
-			h->setLimit(low, high);
-			m_stockHinges.emplace_back(h);
-			m_world->addConstraint(h, true);
-		};
-		auto cone = [&](int a, int c, const btTransform& fa, const btTransform& fb, btScalar swing1, btScalar swing2,
-						btScalar twist) {
-			auto* k = new btConeTwistConstraint(*b[a], *b[c], fa, fb);
-			k->setLimit(swing1, swing2, twist);
-			m_constraints.emplace_back(k);
-			m_world->addConstraint(k, true);
-		};
-		hinge(0, 1, frame(0, halfPi, 0, btVector3(0, btScalar(0.15), 0)), frame(0, halfPi, 0, btVector3(0, btScalar(-0.15), 0)),
-			  -quarterPi, halfPi);
-		cone(1, 2, frame(0, 0, halfPi, btVector3(0, btScalar(0.30), 0)), frame(0, 0, halfPi, btVector3(0, btScalar(-0.14), 0)),
-			 quarterPi, quarterPi, halfPi);
-		cone(0, 3, frame(0, 0, -5 * quarterPi, btVector3(btScalar(-0.18), btScalar(-0.10), 0)),
-			 frame(0, 0, -5 * quarterPi, btVector3(0, btScalar(0.225), 0)), quarterPi, quarterPi, 0);
-		hinge(3, 4, frame(0, halfPi, 0, btVector3(0, btScalar(-0.225), 0)), frame(0, halfPi, 0, btVector3(0, btScalar(0.185), 0)),
-			  0, halfPi);
-		cone(0, 5, frame(0, 0, quarterPi, btVector3(btScalar(0.18), btScalar(-0.10), 0)),
-			 frame(0, 0, quarterPi, btVector3(0, btScalar(0.225), 0)), quarterPi, quarterPi, 0);
-		hinge(5, 6, frame(0, halfPi, 0, btVector3(0, btScalar(-0.225), 0)), frame(0, halfPi, 0, btVector3(0, btScalar(0.185), 0)),
-			  0, halfPi);
-		cone(1, 7, frame(0, 0, SIMD_PI, btVector3(btScalar(-0.2), btScalar(0.15), 0)),
-			 frame(0, 0, halfPi, btVector3(0, btScalar(-0.18), 0)), halfPi, halfPi, 0);
-		hinge(7, 8, frame(0, halfPi, 0, btVector3(0, btScalar(0.18), 0)), frame(0, halfPi, 0, btVector3(0, btScalar(-0.14), 0)),
-			  0, halfPi);
-		cone(1, 9, frame(0, 0, 0, btVector3(btScalar(0.2), btScalar(0.15), 0)),
-			 frame(0, 0, halfPi, btVector3(0, btScalar(-0.18), 0)), halfPi, halfPi, 0);
-		hinge(9, 10, frame(0, halfPi, 0, btVector3(0, btScalar(0.18), 0)), frame(0, halfPi, 0, btVector3(0, btScalar(-0.14), 0)),
-			  0, halfPi);
-	}
-
-	btDefaultCollisionConfiguration m_config;
-	btCollisionDispatcher m_dispatcher;
-	btDbvtBroadphase m_broadphase;
-	btSequentialImpulseConstraintSolver m_solver;
-	std::unique_ptr<btDiscreteDynamicsWorld> m_world;
-	btQuaternionHingeStabilizer m_stabilizer;
-	btRigidBody* m_ground = nullptr;
-	// destroyed before the bodies (declared after them): constraints first
-	std::vector<std::unique_ptr<btCollisionShape>> m_shapes;
-	std::vector<std::unique_ptr<btRigidBody>> m_bodies;
-	std::vector<std::unique_ptr<btTypedConstraint>> m_stockHinges;
+	// destroyed after the world (declared before it): the replacement hinges it holds are removed first
 	std::vector<std::unique_ptr<btTypedConstraint>> m_constraints;
+	RagdollDemoWorld m_demo;  // the ground (a static btRigidBody, as BenchmarkDemo's) and the four ragdolls
+	btDiscreteDynamicsWorld* m_world;
+	btQuaternionHingeStabilizer m_stabilizer;
 };
 
 void print(const char* kind, const Figures& f)

@@ -3,7 +3,7 @@
 // of 1 kg, hinges at the spine, knees and elbows, btConeTwistConstraints at the neck, hips and shoulders, the demo's
 // damping and sleeping thresholds, every joint added with collisions between its bodies disabled. The ground is a
 // static btCollisionObject, as the demo makes it, or a static btRigidBody (BenchmarkDemo's). Built when
-// QuatHinge::Stabilizer is (tests/test_stabilizer_ragdoll_demo.cpp).
+// QuatHinge::Stabilizer is (tests/test_stabilizer_ragdoll_demo.cpp, tests/test_stabilizer_mixed.cpp).
 #ifndef QUATHINGE_TESTS_RAGDOLL_DEMO_H
 #define QUATHINGE_TESTS_RAGDOLL_DEMO_H
 
@@ -27,6 +27,8 @@ public:
 	explicit RagdollDemoWorld(RagdollGround ground);
 	~RagdollDemoWorld();
 	btDiscreteDynamicsWorld& world() { return *m_world; }
+	/// The ground (a btCollisionObject or a static btRigidBody, as constructed).
+	const btCollisionObject* ground() const { return m_ground; }
 	/// One ragdoll standing with its feet `offset` above the origin, turned by `yaw` about y, its pelvis spun at
 	/// `spin` rad/s about z (so that ragdolls fall differently).
 	void addRagdoll(const btVector3& offset, btScalar yaw, btScalar spin);
