@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # README's test command: set up, build both Bullet precisions, run every test. CI runs the same, then --asan-only.
 #   bash cmake/run-tests.sh                    float and double builds (build/, build-double/)
-#   bash cmake/run-tests.sh --asan             also the AddressSanitizer + UBSan Debug build (build-asan/)
+#   bash cmake/run-tests.sh --asan             also the AddressSanitizer + UBSan Debug build at -O1 (build-asan/)
 #   bash cmake/run-tests.sh --asan-only        only the sanitizer build
 #   bash cmake/run-tests.sh DIR [CMAKE_ARGS…]  one build: configure DIR with the extra arguments, build, ctest
 set -euo pipefail
