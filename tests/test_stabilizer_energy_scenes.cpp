@@ -186,11 +186,12 @@ TEST(StabilizerEnergyScenes, RestingBodiesStillFallAsleep)
 	const SleepCount bareCount = countAsleep(bare), offCount = countAsleep(off), onCount = countAsleep(on);
 	const Settling chainsOff = settle(restScene(50, 10, true), Kind::QuaternionStabilized, false, kSeconds),
 				   chainsOn = settle(restScene(50, 10, true), Kind::QuaternionStabilized, true, kSeconds);
-	std::printf("[ figures  ] ragdoll drops asleep within %.0f s: %d of %d with keepEnergyAndMomentum (median %.3g s), "
-				"%d without it (median %.3g s), %d without a stabilizer (median %.3g s); 50 chains at rest asleep "
-				"after %.3g s (without the restoration %.3g s)\n",
-				kSeconds, onCount.asleep, kDrops, onCount.medianTime, offCount.asleep, offCount.medianTime,
-				bareCount.asleep, bareCount.medianTime, chainsOn.sleepTime, chainsOff.sleepTime);
+	std::printf(
+		"[ figures  ] ragdoll drops asleep within %.0f s: %d of %d with keepEnergyAndMomentum (median %.3g s), "
+		"%d without it (median %.3g s), %d without a stabilizer (median %.3g s); 50 chains at rest asleep "
+		"after %.3g s (without the restoration %.3g s)\n",
+		kSeconds, onCount.asleep, kDrops, onCount.medianTime, offCount.asleep, offCount.medianTime,
+		bareCount.asleep, bareCount.medianTime, chainsOn.sleepTime, chainsOff.sleepTime);
 	EXPECT_GE(onCount.asleep, kMinAsleep);
 	if (chainsOff.sleepTime > 0)
 	{
