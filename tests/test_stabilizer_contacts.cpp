@@ -74,10 +74,11 @@ struct ChainOnTheGround
 	{
 		if (groundObject) scene.world().removeCollisionObject(groundObject.get());
 	}
-	// The links' contact points with the ground deeper than `depth` (m): the link and the point in its frame.
-	std::vector<std::pair<const btCollisionObject*, btVector3>> pointsDeeperThan(double depth)
+	// Calls f(link, point in the link's frame, point in world at the link's current pose) for every contact point of
+	// the links with the ground.
+	template <class F>
+	void forEachGroundPoint(F f)
 	{
-		std::vector<std::pair<const btCollisionObject*, btVector3>> points;
 		btDispatcher& d = *scene.world().getDispatcher();
 		for (int m = 0; m < d.getNumManifolds(); ++m)
 		{
@@ -88,32 +89,27 @@ struct ChainOnTheGround
 			for (int p = 0; p < manifold->getNumContacts(); ++p)
 			{
 				const btManifoldPoint& point = manifold->getContactPoint(p);
-				const btVector3 onLink =
-					link->getWorldTransform() * (groundIsB ? point.m_localPointA : point.m_localPointB);
-				if (-double(onLink.y()) > depth) points.push_back({link, groundIsB ? point.m_localPointA : point.m_localPointB});
+				const btVector3 local = groundIsB ? point.m_localPointA : point.m_localPointB;
+				f(link, local, link->getWorldTransform() * local);
 			}
 		}
+	}
+	// The links' contact points with the ground deeper than `depth` (m): the link and the point in its frame.
+	std::vector<std::pair<const btCollisionObject*, btVector3>> pointsDeeperThan(double depth)
+	{
+		std::vector<std::pair<const btCollisionObject*, btVector3>> points;
+		forEachGroundPoint([&](const btCollisionObject* link, const btVector3& local, const btVector3& onLink) {
+			if (-double(onLink.y()) > depth) points.push_back({link, local});
+		});
 		return points;
 	}
 	// The deepest penetration (m, ≥ 0) of the links' contact points with the ground, at the links' current poses.
 	double penetration()
 	{
 		double deepest = 0;
-		btDispatcher& d = *scene.world().getDispatcher();
-		for (int m = 0; m < d.getNumManifolds(); ++m)
-		{
-			btPersistentManifold* manifold = d.getManifoldByIndexInternal(m);
-			const bool groundIsB = manifold->getBody1() == ground;
-			if (!groundIsB && manifold->getBody0() != ground) continue;
-			const btCollisionObject* link = groundIsB ? manifold->getBody0() : manifold->getBody1();
-			for (int p = 0; p < manifold->getNumContacts(); ++p)
-			{
-				const btManifoldPoint& point = manifold->getContactPoint(p);
-				const btVector3 onLink =
-					link->getWorldTransform() * (groundIsB ? point.m_localPointA : point.m_localPointB);
-				deepest = std::max(deepest, -double(onLink.y()));  // the ground's top is y = 0
-			}
-		}
+		forEachGroundPoint([&](const btCollisionObject*, const btVector3&, const btVector3& onLink) {
+			deepest = std::max(deepest, -double(onLink.y()));  // the ground's top is y = 0
+		});
 		return deepest;
 	}
 };
