@@ -3,6 +3,7 @@
 #ifdef QUATHINGE_HAVE_SCENES
 #include "JointKinds.h"
 #include "SceneSpec.h"
+#include "support/SceneRuns.h"
 
 #include <gtest/gtest.h>
 
@@ -44,17 +45,9 @@ TEST(Scenes, EverySceneRunsWithEveryKind)
 	RunSettings settings;
 	settings.duration = 0.25;
 	settings.reference = false;
-	for (const std::string& name : sceneNames())
+	for (const SceneSpec& scene : qh_test::availableScenes())
 	{
-		const SceneSpec scene = makeScene(name, 1);
-		// The models are the project's own (demos/models): only a build without an optional library may leave a scene
-		// out, and it says so.
-		if (!scene.unavailable.empty())
-		{
-			EXPECT_EQ(scene.unavailable.rfind("built without", 0), 0u) << name << ": " << scene.unavailable;
-			std::printf("[ left out ] %s: %s\n", name.c_str(), scene.unavailable.c_str());
-			continue;
-		}
+		const std::string& name = scene.name;
 		for (Kind kind : allKinds())
 		{
 			const Metrics m = runScene(scene, kind, settings);

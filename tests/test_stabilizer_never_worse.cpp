@@ -6,6 +6,7 @@
 #if defined(QUATHINGE_HAVE_STABILIZER) && defined(QUATHINGE_HAVE_SCENES)
 #include "JointKinds.h"
 #include "SceneSpec.h"
+#include "support/SceneRuns.h"
 #include "Simulation.h"
 #include "quathinge/btQuaternionHingeStabilizer.h"
 
@@ -103,15 +104,9 @@ TEST(StabilizerNeverWorse, NoConstraintOfAnyLibrarySceneIsFurtherFromSatisfiedAf
 	const double dt = 1.0 / 60;
 	const int steps = 60;  // 1 s: the starts (flipped, separated), the first contacts, the swings
 	int worlds = 0;
-	for (const std::string& name : sceneNames())
+	for (const SceneSpec& scene : qh_test::availableScenes())
 	{
-		const SceneSpec scene = makeScene(name, 1);
-		if (!scene.unavailable.empty())
-		{
-			EXPECT_EQ(scene.unavailable.rfind("built without", 0), 0u) << name << ": " << scene.unavailable;
-			std::printf("[ left out ] %s: %s\n", name.c_str(), scene.unavailable.c_str());
-			continue;
-		}
+		const std::string& name = scene.name;
 		for (Kind kind : {Kind::Stock, Kind::Generic6Dof2, Kind::Quaternion})
 		{
 			Simulation sim(scene, kind);
