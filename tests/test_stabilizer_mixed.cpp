@@ -47,7 +47,7 @@ struct Figures
 class MixedRagdolls
 {
 public:
-	MixedRagdolls(Kind kind, int variant) : m_demo(RagdollGround::StaticBody), m_world(&m_demo.world())
+	MixedRagdolls(Kind kind, int variant) : m_demo(RagdollGround::StaticBody)
 	{
 		for (int i = 0; i < 4; ++i)
 			m_demo.addRagdoll(btVector3(btScalar(2 * i - 3), btScalar(0.5 + 0.3 * i), 0), 0,
@@ -64,15 +64,15 @@ public:
 			// 8-spin sample does not show: README, "Mixed ragdolls", the paragraph "Resting ragdolls sink deeper with
 			// the stabilizer unless the contacts are projected".
 			btAlignedObjectArray<btHingeConstraint*> stock;
-			for (int i = 0; i < m_world->getNumConstraints(); ++i)
-				if (m_world->getConstraint(i)->getConstraintType() == HINGE_CONSTRAINT_TYPE)
-					stock.push_back(static_cast<btHingeConstraint*>(m_world->getConstraint(i)));
+			for (int i = 0; i < m_demo.world().getNumConstraints(); ++i)
+				if (m_demo.world().getConstraint(i)->getConstraintType() == HINGE_CONSTRAINT_TYPE)
+					stock.push_back(static_cast<btHingeConstraint*>(m_demo.world().getConstraint(i)));
 			EXPECT_EQ(stock.size(), 20);
 			for (int i = 0; i < stock.size(); ++i)
 			{
 				auto* replacement = new btQuaternionHingeConstraint(*stock[i]);
-				m_world->removeConstraint(stock[i]);
-				m_world->addConstraint(replacement, true);  // as RagdollDemo adds every joint
+				m_demo.world().removeConstraint(stock[i]);
+				m_demo.world().addConstraint(replacement, true);  // as RagdollDemo adds every joint
 				m_constraints.emplace_back(replacement);
 			}
 		}
@@ -83,14 +83,14 @@ public:
 			settings.projectContacts = kind == Kind::QuaternionStabilizedContacts;
 			m_stabilizer.setSettings(settings);
 		}
-		if (kind != Kind::Stock && kind != Kind::Quaternion) m_world->addAction(&m_stabilizer);
+		if (kind != Kind::Stock && kind != Kind::Quaternion) m_demo.world().addAction(&m_stabilizer);
 	}
 	~MixedRagdolls()
 	{
-		for (int i = m_world->getNumConstraints() - 1; i >= 0; --i) m_world->removeConstraint(m_world->getConstraint(i));
-		for (int i = m_world->getNumCollisionObjects() - 1; i >= 0; --i)
-			m_world->removeCollisionObject(m_world->getCollisionObjectArray()[i]);
-		m_world->removeAction(&m_stabilizer);
+		for (int i = m_demo.world().getNumConstraints() - 1; i >= 0; --i) m_demo.world().removeConstraint(m_demo.world().getConstraint(i));
+		for (int i = m_demo.world().getNumCollisionObjects() - 1; i >= 0; --i)
+			m_demo.world().removeCollisionObject(m_demo.world().getCollisionObjectArray()[i]);
+		m_demo.world().removeAction(&m_stabilizer);
 	}
 
 	Figures run(int steps)
@@ -98,13 +98,13 @@ public:
 		Figures f;
 		for (int s = 0; s < steps; ++s)
 		{
-			m_world->stepSimulation(kTimeStep, 0, kTimeStep);
+			m_demo.world().stepSimulation(kTimeStep, 0, kTimeStep);
 			const bool late = 2 * s >= steps;
 			const double lateWeight = 2.0 / steps;
 			double hinge = 0, cone = 0, ground = 0, parts = 0;
-			for (int i = 0; i < m_world->getNumConstraints(); ++i)
+			for (int i = 0; i < m_demo.world().getNumConstraints(); ++i)
 			{
-				btTypedConstraint* c = m_world->getConstraint(i);
+				btTypedConstraint* c = m_demo.world().getConstraint(i);
 				btTransform a, b;
 				if (auto* cone = dynamic_cast<btConeTwistConstraint*>(c))
 				{
@@ -133,7 +133,7 @@ public:
 			}
 			f.hingeSeparation = std::max(f.hingeSeparation, hinge);
 			f.hingeSeparationEnd = hinge;
-			btDispatcher& d = *m_world->getDispatcher();
+			btDispatcher& d = *m_demo.world().getDispatcher();
 			for (int m = 0; m < d.getNumManifolds(); ++m)
 			{
 				const btPersistentManifold* manifold = d.getManifoldByIndexInternal(m);
@@ -161,7 +161,6 @@ private:
 	// destroyed after the world (declared before it): the replacement hinges it holds are removed first
 	std::vector<std::unique_ptr<btTypedConstraint>> m_constraints;
 	RagdollDemoWorld m_demo;  // the ground (a static btRigidBody, as BenchmarkDemo's) and the four ragdolls
-	btDiscreteDynamicsWorld* m_world;
 	btQuaternionHingeStabilizer m_stabilizer;
 };
 
