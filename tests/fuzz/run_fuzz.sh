@@ -21,8 +21,10 @@ cmake --build "$dir" -j2 --target quathinge_fuzz
 rm -rf "$dir/corpus" && cp -r tests/fuzz/corpus "$dir/corpus"
 mkdir -p "$dir/crashes"
 set +e
-# QUATHINGE_FUZZ_SEED fixes libFuzzer's random seed (CI: 1, so a red run is reproducible and a green one does not
-# turn red by luck); unset, libFuzzer picks one and prints it.
+# QUATHINGE_FUZZ_SEED fixes libFuzzer's random seed (CI: 1); unset, libFuzzer picks one and prints it. A fixed seed
+# does not make a timed run repeat itself: the number of inputs tried depends on the machine's speed, and the coverage
+# libFuzzer steers by varies from run to run (Bullet's profiler reads the clock). So a finding is printed whole below,
+# to be replayed from the log of the machine that found it.
 seed=()
 if [ -n "${QUATHINGE_FUZZ_SEED:-}" ]; then seed=(-seed="$QUATHINGE_FUZZ_SEED"); fi
 "$dir/tests/fuzz/quathinge_fuzz" "${seed[@]}" -max_total_time="$seconds" -timeout=20 -rss_limit_mb=2048 -print_final_stats=1 \
@@ -35,5 +37,14 @@ grep -E "^#[0-9]+[[:space:]]+(INITED|DONE)|^stat::(number_of_executed_units|aver
 if [ $status -ne 0 ]; then
   echo "run_fuzz: the fuzzer stopped with status $status; the report (end of $dir/fuzz.log):" >&2
   grep -E "quathinge_fuzz:|ERROR|SUMMARY|runtime error|Test unit written|artifact" "$dir/fuzz.log" | head -20 >&2
+  # The input itself (base64; save it with `base64 -d > crash`) and its replay with the scene printed, so a finding
+  # on another machine can be reproduced here.
+  for unit in "$dir"/crashes/*; do
+    [ -f "$unit" ] || continue
+    echo "run_fuzz: input $(basename "$unit"), base64:" >&2
+    base64 -w 0 "$unit" >&2 && echo >&2
+    echo "run_fuzz: its replay with QUATHINGE_FUZZ_VERBOSE=1 (last 80 lines):" >&2
+    QUATHINGE_FUZZ_VERBOSE=1 "$dir/tests/fuzz/quathinge_fuzz" "$unit" 2>&1 | tail -80 >&2 || true
+  done
   exit $status
 fi
