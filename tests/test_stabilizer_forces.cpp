@@ -19,9 +19,30 @@ namespace
 {
 const double kReferenceHz = 1000;  // the stock reference's step rate (Hz)
 
+// Never off for good (the criterion): every stabilized run is run again with the app calling
+// invalidateStructure() before every step, and no 1 s mean of its energy differs from the plain run's by more than
+// this share of the plain run's largest 1 s mean (J/J). Forgetting the islands must not reset what the energy
+// restoration carries from step to step (its guard).
+const double kInvalidatedBound = 0.01;
+
 ForceRecord run(const ForceChain& c, const ForceHooks& k, ForceKind kind, double hz, double seconds)
 {
-	return runForceChain(c, k, kind, hz, seconds);
+	ForceRecord r = runForceChain(c, k, kind, hz, seconds);
+	if (kind == ForceKind::Stabilized)
+	{
+		const ForceRecord again = runForceChain(c, k, ForceKind::StabilizedInvalidated, hz, seconds);
+		double largest = 0, difference = 0;
+		for (double t = 0; t + 1 <= seconds + 1e-9; t += 1)
+		{
+			largest = std::max(largest, std::fabs(r.mean(t, t + 1)));
+			difference = std::max(difference, std::fabs(again.mean(t, t + 1) - r.mean(t, t + 1)));
+		}
+		std::printf("[invalidated] %g Hz, %g s: largest 1 s mean energy %.6g J, largest difference %.3g J\n", hz,
+					seconds, largest, difference);
+		EXPECT_LE(difference, kInvalidatedBound * largest) << "invalidateStructure() every step, " << hz << " Hz";
+		EXPECT_EQ(again.guardTrip < 0, r.guardTrip < 0) << hz << " Hz";
+	}
+	return r;
 }
 
 // An app spring (stiffness k, N/m; rest length 0) from the chain's last link's far end toward `target`, applied with

@@ -409,7 +409,8 @@ std::unique_ptr<Island> buildOne(const Array<SignatureEntry>& entries, bool forc
 }
 }  // namespace
 
-int buildIslands(const Array<SignatureEntry>& scan, bool forceSparse, Array<std::unique_ptr<Island>>& islands)
+int buildIslands(const Array<SignatureEntry>& scan, bool forceSparse, Array<std::unique_ptr<Island>>& islands,
+				 Array<IslandHistory>& history)
 {
 	int built = 0;
 	// The scan's entries by island (union-find over their movable bodies), in the order of each island's first entry,
@@ -436,9 +437,11 @@ int buildIslands(const Array<SignatureEntry>& scan, bool forceSparse, Array<std:
 		if (found.second) groups.emplace_back();
 		groups[size_t(found.first->second)].push_back(scan[i]);
 	}
-	// An island whose entries are unchanged is kept (no allocation, no analysis) and reset to a fresh one's state (its
-	// kept projection, energy reference and energy guard are forgotten, so every island steps as if all were
-	// rebuilt); the others are built. A contact that comes or goes (projectContacts) rebuilds its own island, not the world's.
+	// An island whose entries are unchanged is kept (no allocation, no analysis), its kept projection and conserveEnergy's
+	// reference forgotten (every island steps as if all were rebuilt); the others are built. The energy restoration's
+	// history (its guard: Island::Invariants) stays with an island's entries, kept or built again: a rebuild elsewhere,
+	// or the app's invalidateStructure() every step, changes no island's energy. A contact that comes or goes
+	// (projectContacts) rebuilds its own island, not the world's.
 	Array<std::unique_ptr<Island>> old;
 	old.swap(islands);
 	for (Array<SignatureEntry>& entries : groups)
@@ -450,17 +453,23 @@ int buildIslands(const Array<SignatureEntry>& scan, bool forceSparse, Array<std:
 				island = std::move(o);
 				forgetProjection(*island);
 				island->energyReferenceSet = false;
-				island->invariants = Island::Invariants();
 				break;
 			}
 		if (!island)
 		{
 			island = buildOne(entries, forceSparse);
+			for (const IslandHistory& h : history)
+				if (h.entries.size() == entries.size() && std::equal(entries.begin(), entries.end(), h.entries.begin()))
+				{
+					island->invariants = h.invariants;
+					break;
+				}
 			island->entries.swap(entries);
 			++built;
 		}
 		islands.push_back(std::move(island));
 	}
+	history.clear();
 	return built;
 }
 

@@ -33,9 +33,12 @@ const double kTinyKinetic = 1e-12;
 // rad, where Bullet's own step is far from the motion (its per-step rotation clamp, a rotor at 1000 rad/s).
 const double kMaxSpinScalePerStep = 0.1;
 // The guard: the running average (time constant kGuardTime, s) of its ledger (the energy the calls left beyond their
-// goal, Invariants::ledger) may rise above its lowest value by at most
-// kGuardGrowth of the island's energy scale while the restoration's own work since then is at least kGuardShare of
-// that rise; past it, an island without a source (a drive, an outside contact, a moving partner) stops restoring.
+// goal, Invariants::ledger) rises above its lowest value; the part of that rise the restoration's own work since then
+// accounts for (its work over kGuardShare, at most the rise) is the guard's measure. Up to kGuardGrowth of the island's
+// energy scale the restoration acts in full; from there to twice that its change of the speeds is tapered linearly
+// to none (Invariants::hold). Continuous, and it recovers: held back, the restoration no longer adds, the ledger's
+// average falls with the projection's own losses, and the hold is released as it falls. An island with a source (a
+// drive, an outside contact, a moving partner) is not held.
 const double kGuardTime = 2;
 const double kGuardGrowth = 0.1;
 const double kGuardShare = 0.5;
@@ -138,7 +141,7 @@ double scaleForGoal(double kinetic, double b, double goal, double lo, double hi)
 	return best;
 }
 
-// The guard's running average of the energy after the step (J), and whether it trips now.
+// The guard's running average of the ledger after the step (J), and the hold it sets for the next step.
 void updateGuard(Island& island, double energyAfter, double restorationWork, double timeStep)
 {
 	Island::Invariants& inv = island.invariants;
@@ -151,12 +154,10 @@ void updateGuard(Island& island, double energyAfter, double restorationWork, dou
 		inv.lowest = inv.average;
 		inv.workAtLowest = inv.work;
 	}
-	const double rise = inv.average - inv.lowest;
-	if (!inv.guarded && !inv.source && rise > kGuardGrowth * inv.scale && inv.work - inv.workAtLowest > kGuardShare * rise)
-	{
-		inv.guarded = true;
-		forgetProjection(island);  // a kept projection restored energy
-	}
+	const double rise = std::min(inv.average - inv.lowest, std::max(inv.work - inv.workAtLowest, 0.0) / kGuardShare);
+	const double growth = kGuardGrowth * inv.scale;
+	inv.hold = inv.source || !(growth > 0) ? 1.0 : std::clamp(2 - rise / growth, 0.0, 1.0);
+	if (inv.hold < 1) forgetProjection(island);  // a kept projection restored energy with another hold
 }
 }  // namespace
 
@@ -249,7 +250,7 @@ InvariantResult restoreInvariants(Island& island, ProjectionResult& result, doub
 	if (result.iterations == 0 && result.solves == 0)  // nothing moved: the energy is the recorded one
 	{
 		if (restoreEnergy) updateGuard(island, inv.ledger, 0, timeStep);
-		out.guarded = inv.guarded;
+		out.guarded = inv.hold < 1;
 		return out;
 	}
 	// The work of the step's forces on the projection's move (Q16: gravity's and the app's, the lift ΔV when only
@@ -269,7 +270,8 @@ InvariantResult restoreInvariants(Island& island, ProjectionResult& result, doub
 	}
 	const bool oneSided = result.activeLimitRows > 0 || result.contactRows > 0;  // a stop's or a contact's work
 	// a contact outside the island is Bullet's solver's work (and the stop that lets a ragdoll settle): not restored
-	const bool energy = restoreEnergy && !oneSided && !inv.touching && !inv.guarded && !hangsOnMovingBody(island);
+	const bool energy = restoreEnergy && !oneSided && !inv.touching && inv.hold > 0 && !hangsOnMovingBody(island);
+	const double hold = energy ? inv.hold : 0;  // the guard's share of each change the restoration makes (1: all of it)
 	// (Q16) Bullet's step (semi-implicit Euler: v₁ = v₀ + h(g + M⁻¹Jᵀλ/h), x₁ = x₀ + h v₁) keeps the shadow energy
 	// Ẽ = E + ½h Σ m g·v exactly when its impulse closes J(x₀) v₁ = 0; the solver's leftover r changed it by
 	// ½rᵀK⁻¹r − ½ΔV_r (its kinetic energy, and the potential energy its drift h r lost, half of it counted in Ẽ's
@@ -303,7 +305,7 @@ InvariantResult restoreInvariants(Island& island, ProjectionResult& result, doub
 		// I_lock⁻¹: a thin chain's I_lock is nearly singular about its long axis, and a small error of L across the
 		// spin became a fast spin about that axis (docs/ENERGY.md). An island tied to bodies outside it by constraints
 		// the stabilizer does not project is part of a larger free system: spinning it alone would shear them. L is put
-		// back in the steps whose energy is (not in a stop's step, nor once the guard has stopped the island).
+		// back in the steps whose energy is (not in a stop's step), as far as the guard lets it (its hold).
 		double alpha = 1;
 		const double spinKinetic = 0.5 * angular.dot(spinNow);  // ½ L'·Ω'
 		if (energy && !inv.tied && spinKinetic > kTinyKinetic * inv.scale)
@@ -312,7 +314,7 @@ InvariantResult restoreInvariants(Island& island, ProjectionResult& result, doub
 			// position stage pulled in, L costs more energy than at Bullet's (a skater pulling in her arms)
 			const double room = std::max(target - 0.5 * inv.momentum.squaredNorm() / mass, 0.0);
 			alpha = std::min(angular.dot(inv.angular) / angular.squaredNorm(), std::sqrt(room / spinKinetic));
-			alpha = std::clamp(alpha, 1 - kMaxSpinScalePerStep, 1 + kMaxSpinScalePerStep);
+			alpha = 1 + hold * (std::clamp(alpha, 1 - kMaxSpinScalePerStep, 1 + kMaxSpinScalePerStep) - 1);
 		}
 		const Eigen::Vector3d velocity = inv.momentum / mass, spin = alpha * spinNow;
 		// (Q18) the deformation d = v' − (its rigid motion) is M-orthogonal to every rigid motion: T = T_rigid + T_d
@@ -329,7 +331,9 @@ InvariantResult restoreInvariants(Island& island, ProjectionResult& result, doub
 		// (Q19) the deformation scaled to what T* leaves it
 		double s = 1;
 		if (energy && deformation > kTinyKinetic * inv.scale)
-			s = std::clamp(std::sqrt(std::max(target - rigid, 0.0) / deformation), 1 - kMaxScalePerStep, 1 + kMaxScalePerStep);
+			s = 1 + hold * (std::clamp(std::sqrt(std::max(target - rigid, 0.0) / deformation), 1 - kMaxScalePerStep,
+									   1 + kMaxScalePerStep) -
+							1);
 		for (IslandBody& b : island.bodies)
 		{
 			btRigidBody& body = *b.rigid;
@@ -350,7 +354,8 @@ InvariantResult restoreInvariants(Island& island, ProjectionResult& result, doub
 		// rest, upright, whose fall starts from that noise, is left to the projection)
 		// an island held by a fixed partner: v' scaled as a whole (J v' = 0 is linear in v'), s² T(v') + s ½h Σ F·v' =
 		// the goal, solved in the bounds (scaleForGoal)
-		const double s = scaleForGoal(kinetic, half * forcePower, goal, 1 - kMaxScalePerStep, highestScale(inv, result, kinetic));
+		const double s =
+			1 + hold * (scaleForGoal(kinetic, half * forcePower, goal, 1 - kMaxScalePerStep, highestScale(inv, result, kinetic)) - 1);
 		const btScalar scale = btScalar(s);
 		for (IslandBody& b : island.bodies)
 			setVelocities(*b.rigid, b.rigid->getLinearVelocity() * scale, b.rigid->getAngularVelocity() * scale);
@@ -364,7 +369,7 @@ InvariantResult restoreInvariants(Island& island, ProjectionResult& result, doub
 	// counted, the app's and the solver's outside the call not at all): non-zero only where a bound of the scale held.
 	inv.ledger += after + half * afterPower - goal;
 	if (restoreEnergy) updateGuard(island, inv.ledger, after - kinetic, timeStep);
-	out.guarded = inv.guarded;
+	out.guarded = inv.hold < 1;
 	return out;
 }
 

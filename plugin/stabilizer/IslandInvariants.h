@@ -16,8 +16,9 @@
 // step did (gravity, damping, motors, friction, contacts, limits, ERP, a push) is in (q, v) already: it is kept.
 // Not restored: a step in which a one-sided row (a limit, a contact: their stop's work) was projected or a body touches
 // something outside the island (a contact Bullet's solver works on), an island hung on a moving kinematic body (it
-// does work), and an island whose calls left, averaged, more energy than their goal (the guard, on that ledger alone:
-// what the app and Bullet's step do between calls is not in it).
+// does work). The guard holds the restoration back, in part or in full, on an island whose calls left, averaged, more
+// energy than their goal (on that ledger alone: what the app and Bullet's step do between calls is not in it); it
+// lets go as that average falls again. An island's guard history survives a rebuild of the islands (buildIslands).
 #ifndef QUATHINGE_STABILIZER_ISLAND_INVARIANTS_H
 #define QUATHINGE_STABILIZER_ISLAND_INVARIANTS_H
 
@@ -36,7 +37,7 @@ struct InvariantResult
 {
 	bool momentumRestored = false;  // a free island's P and L were put back (Q17, Q18)
 	bool energyRestored = false;    // the kinetic energy was set to T* (Q16, Q19)
-	bool guarded = false;           // the guard has stopped this island's energy restoration
+	bool guarded = false;           // the guard holds this island's energy restoration back (in part or in full)
 	double scale = 1;               // the velocity scaling applied (Q19), 1 when none
 };
 

@@ -306,8 +306,8 @@ struct Island
 		// the guard: the energy's running average (J), its lowest value, the restoration's summed work (J) then and now
 		double scale = 0;  // J: the island's energy scale (set at its first record)
 		double average = 0, lowest = 0, workAtLowest = 0, work = 0, elapsed = 0;
-		double ledger = 0;     // J: the energy the calls left beyond their goal T* (IslandInvariants.cpp), the guard's input
-		bool guarded = false;  // the guard stopped the energy restoration (until the island is rebuilt)
+		double ledger = 0;  // J: the energy the calls left beyond their goal T* (IslandInvariants.cpp), the guard's input
+		double hold = 1;    // the guard's share of the restoration's change of the speeds, 0…1 (IslandInvariants.cpp)
 	} invariants;
 	RestCache restCache;
 };
@@ -325,10 +325,19 @@ struct BlockIsland : Island
 	Array<BlockVector<R>> lambda;  // right-hand side, then λ, per joint
 };
 
+/// What an island's energy restoration remembers across steps (its guard), kept by its entries when the islands are
+/// forgotten (btQuaternionHingeStabilizer::invalidateStructure): an island built again from the same entries carries on.
+struct IslandHistory
+{
+	Array<SignatureEntry> entries;
+	Island::Invariants invariants;
+};
+
 /// Builds the islands of a scan, keeping each island of `islands` whose entries are unchanged; returns how many it
-/// built. forceSparse: every island uses SparseLDLT.
-int buildIslands(const Array<SignatureEntry>& scan, bool forceSparse,
-				 Array<std::unique_ptr<Island>>& islands);
+/// built. An island built from the entries of one of `history` takes its invariants; `history` is emptied.
+/// forceSparse: every island uses SparseLDLT.
+int buildIslands(const Array<SignatureEntry>& scan, bool forceSparse, Array<std::unique_ptr<Island>>& islands,
+				 Array<IslandHistory>& history);
 
 /// Step settings and counters shared by the projection (a subset of btQuaternionHingeStabilizerSettings/Stats).
 struct ProjectionSettings

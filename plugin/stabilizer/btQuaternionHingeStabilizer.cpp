@@ -36,6 +36,7 @@ struct btQuaternionHingeStabilizer::Impl
 	Array<AttachedBody> attached;                                  // this step's attached bodies (moveAttachedBodies, closeAttachedConstraints)
 	Array<std::pair<const btRigidBody*, long long>> contactIndex;  // scanContacts' scratch (projectContacts)
 	Array<std::unique_ptr<Island>> islands;
+	Array<IslandHistory> history;  // the forgotten islands' energy histories (invalidateStructure), until the next build
 	bool built = false;
 };
 
@@ -104,6 +105,13 @@ void btQuaternionHingeStabilizer::setSettings(const btQuaternionHingeStabilizerS
 
 void btQuaternionHingeStabilizer::invalidateStructure()
 {
+	// the islands go; their energy histories stay with their entries, for the islands built from them again
+	for (auto& island : m_impl->islands)
+	{
+		m_impl->history.emplace_back();
+		m_impl->history.back().entries.swap(island->entries);
+		m_impl->history.back().invariants = island->invariants;
+	}
 	m_impl->islands.clear();
 	m_impl->signature.clear();
 	m_impl->upcasts = UpcastCache();
@@ -143,7 +151,8 @@ const btQuaternionHingeStabilizerStats& btQuaternionHingeStabilizer::stabilize(b
 		!std::equal(impl.scan.begin(), impl.scan.end(), impl.signature.begin()))
 	{
 		impl.signature = impl.scan;  // a copy, not a swap: both keep their capacity (no allocation the next step)
-		m_stats.islandsBuilt = buildIslands(impl.signature, m_settings.solver == BT_QHSTAB_SOLVER_SPARSE_LDLT, impl.islands);
+		m_stats.islandsBuilt = buildIslands(impl.signature, m_settings.solver == BT_QHSTAB_SOLVER_SPARSE_LDLT, impl.islands,
+											impl.history);
 		impl.bodyOf.clear();
 		for (const auto& island : impl.islands)
 			for (IslandBody& b : island->bodies) impl.bodyOf[b.rigid] = std::make_pair(island.get(), &b);
@@ -214,7 +223,7 @@ const btQuaternionHingeStabilizerStats& btQuaternionHingeStabilizer::stabilize(b
 			}
 			rememberProjection(island, r);
 		}
-		if (m_settings.keepEnergyAndMomentum && island.invariants.guarded) ++m_stats.energyGuardedIslands;
+		if (m_settings.keepEnergyAndMomentum && island.invariants.hold < 1) ++m_stats.energyGuardedIslands;
 		if (m_settings.conserveEnergy)
 			m_stats.energyCorrection = (std::max)(m_stats.energyCorrection, btScalar(restoreEnergy(island)));
 		++m_stats.islands;

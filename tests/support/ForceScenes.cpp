@@ -99,7 +99,8 @@ ForceRecord runForceChain(const ForceChain& chain, const ForceHooks& hooks, Forc
 		links.push_back(link);
 	}
 	btQuaternionHingeStabilizer stabilizer;
-	if (kind == ForceKind::Stabilized) scene.addAction(&stabilizer);
+	const bool stabilized = kind == ForceKind::Stabilized || kind == ForceKind::StabilizedInvalidated;
+	if (stabilized) scene.addAction(&stabilizer);
 	if (hooks.start) hooks.start(links);
 
 	// no contacts: the links pass through each other and the anchor (the scenes measure the joints' energy alone)
@@ -126,9 +127,10 @@ ForceRecord runForceChain(const ForceChain& chain, const ForceHooks& hooks, Forc
 	for (int step = 0; step < steps; ++step)
 	{
 		if (hooks.before) hooks.before(scene, links, anchor, joints, step * h, h);
+		if (kind == ForceKind::StabilizedInvalidated) stabilizer.invalidateStructure();
 		scene.world().stepSimulation(btScalar(h), 0, btScalar(h));
 		r.energy.push_back(energy());
-		if (kind == ForceKind::Stabilized && r.guardTrip < 0 && stabilizer.getLastStats().energyGuardedIslands > 0)
+		if (stabilized && r.guardTrip < 0 && stabilizer.getLastStats().energyGuardedIslands > 0)
 			r.guardTrip = (step + 1) * h;
 		if (kind != ForceKind::Stock)
 		{

@@ -14,9 +14,10 @@ namespace qh_test
 {
 enum class ForceKind
 {
-	Stabilized,  // quaternion hinges and btQuaternionHingeStabilizer with its defaults
-	Bare,        // quaternion hinges alone
-	Stock        // btHingeConstraint alone (stock Bullet)
+	Stabilized,             // quaternion hinges and btQuaternionHingeStabilizer with its defaults
+	StabilizedInvalidated,  // the same, the app calling invalidateStructure() before every step
+	Bare,                   // quaternion hinges alone
+	Stock                   // btHingeConstraint alone (stock Bullet)
 };
 
 /// A chain of `links` boxes 0.5 m long, 0.1 m square, 1 kg (the last `lastMass`), the first hinged to `anchor` (a

@@ -148,8 +148,9 @@ struct btQuaternionHingeStabilizerSettings
 	/// keeps its linear momentum and its angular momentum (its rigid spin scaled, unless a constraint not projected ties
 	/// it to other bodies), and only its motion relative to its rigid motion is scaled. Not restored in a step where a limit or contact row was
 	/// projected (their work), on an island touching something outside it (a ragdoll settles on the ground with the projection's damping),
-	/// on an island hung on a moving kinematic body, and on an island whose calls left, averaged, more energy than their
-	/// goal (a guard on the stabilizer's own ledger, blind to the app's work: getLastStats().energyGuardedIslands). A
+	/// on an island hung on a moving kinematic body; held back, in part and for as long as it lasts, on an island whose
+	/// calls left, averaged, more energy than their goal (a guard on the stabilizer's own ledger, blind to the app's
+	/// work: getLastStats().energyGuardedIslands). A
 	/// push, an app spring, a gravity change, a motor burst and damping keep their energy (docs/ENERGY.md, "Under an
 	/// app's forces"). At most 10% of the speeds
 	/// per step; one more solve per island and step, no factorization (chain100: +5.8% instructions per step).
@@ -218,8 +219,9 @@ struct btQuaternionHingeStabilizerStats
 										  ///< conserveEnergy)
 	int energyRestoredIslands = 0;        ///< islands whose kinetic energy keepEnergyAndMomentum set this step
 	int momentumRestoredIslands = 0;      ///< free islands whose momentum keepEnergyAndMomentum put back this step
-	int energyGuardedIslands = 0;         ///< islands whose energy restoration the guard has stopped (their calls left,
-										  ///< averaged, more energy than their goal; until the island is rebuilt)
+	int energyGuardedIslands = 0;         ///< islands whose energy restoration the guard holds back, in part or in full
+										  ///< (their calls left, averaged, more energy than their goal; it lets go as
+										  ///< that average falls again)
 	double timeMicroseconds = 0;          ///< wall time of the call
 };
 
@@ -303,7 +305,9 @@ public:
 	const btQuaternionHingeStabilizerStats& getLastStats() const { return m_stats; }
 
 	/// Forgets the cached islands: they are rebuilt at the next call. Never needed for correctness (the structure
-	/// is compared with the world's every step); frees the memory of a world the stabilizer no longer serves.
+	/// is compared with the world's every step); frees the memory of a world the stabilizer no longer serves (all
+	/// but each island's energy history, a few hundred bytes, which an island built again from the same joints
+	/// carries on: calling it every step changes no run).
 	void invalidateStructure();
 
 private:
