@@ -98,6 +98,7 @@ const double kFreeSwingBound = 0.15;     // a motor's energy over the free swing
 const double kHeavyGain = 0.02;          // the 1:1000 tip: no gain beyond this
 const double kMomentumBound = 1e-5;      // kg·m/s: a free chain's linear momentum
 const double kAngularMargin = 0.005;     // a free chain's |ΔL|/|L₀| beyond the bare joints'
+const double kKinematicBound = 0.03;     // a chain dragged by a kinematic body: its energy after the stop against 1 kHz
 }  // namespace
 
 // A chain swinging freely, pushed once at 1 s, then free for 20 s: the energy it keeps is stock Bullet's at 1 kHz
@@ -285,7 +286,8 @@ TEST(StabilizerForces, AFreeTumblingChainKeepsItsMomentum)
 	EXPECT_LE(s.angularDrift, bare.angularDrift + kAngularMargin);
 }
 
-// Figures beyond this design's reach (docs/ENERGY.md, "Limitations"): printed, not asserted (the joints are).
+// Figures beyond this design's reach (docs/ENERGY.md, "Limitations"): printed, not asserted (the joints are), but
+// for the kinematic driver's 60 Hz energy.
 TEST(StabilizerForces, FiguresBeyondTheDesign)
 {
 	{  // two links on a k = 50 N/m app spring in zero gravity
@@ -326,6 +328,9 @@ TEST(StabilizerForces, FiguresBeyondTheDesign)
 							 {"guard", s.guardTrip},
 							 {"sep", std::max(s.maxSeparation, s240.maxSeparation)}});
 		expectHeld(s, "kinematic");
+		// the bound at 60 Hz (met since the mass metric is used while the driver moves); 240 Hz is not
+		// closer (docs/ENERGY.md, "Limitations"): printed only
+		EXPECT_NEAR(s.mean(1.5, 2.5) / ref.mean(1.5, 2.5), 1, kKinematicBound);
 	}
 }
 #endif
