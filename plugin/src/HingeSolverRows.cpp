@@ -15,6 +15,7 @@
 #include "WorldPointRows.h"
 
 #include "BulletDynamics/Dynamics/btRigidBody.h"
+#include "LinearMath/btTransformUtil.h"
 
 #include <cmath>
 #include <cstring>
@@ -56,6 +57,22 @@ bool isStaticLike(const btRigidBody& body)
 	const btVector3& d = body.getInvInertiaDiagLocal();
 	return (magnitudeBits(body.getInvMass()) | magnitudeBits(d.x()) | magnitudeBits(d.y()) | magnitudeBits(d.z())) == 0;
 }
+
+// A moving kinematic body's pose at the start of a step of h s, where the rows measure the joint's error. Bullet moves
+// a kinematic body to its pose at the end of the step before its solver runs (saveKinematicState) and gives it the
+// velocity of that move. Measured there, each step would start a step's motion h·v behind the partner, and the error
+// correction would turn that lead into speed: stock's btHingeConstraint does, and its bodies then run a step ahead of
+// the partner; a post-stabilizer that closes the joint every step takes that speed back every step, a correction of
+// order h rather than the drift's h² (docs/ENERGY.md, "Limitations"). Any other body: its pose.
+const btTransform& poseAtStepStart(const btRigidBody& body, btScalar h, btTransform& scratch)
+{
+	if (!body.isKinematicObject() || !(h > 0) ||
+		(body.getLinearVelocity().fuzzyZero() && body.getAngularVelocity().fuzzyZero()))
+		return body.getCenterOfMassTransform();
+	btTransformUtil::integrateTransform(body.getCenterOfMassTransform(), -body.getLinearVelocity(),
+										-body.getAngularVelocity(), h, scratch);
+	return scratch;
+}
 }  // namespace
 
 void btQuaternionHingeConstraint::clearFault()
@@ -77,7 +94,10 @@ bool btQuaternionHingeConstraint::needsAngle() const
 
 void btQuaternionHingeConstraint::getInfo1(btConstraintInfo1* info)
 {
-	computeRowCount(info, m_rbA.getCenterOfMassTransform(), m_rbB.getCenterOfMassTransform());
+	// (the step's h is not in btConstraintInfo1: the last getInfo2's; getInfo2 computes the pose again if it differs)
+	btTransform startA, startB;
+	computeRowCount(info, poseAtStepStart(m_rbA, m_lastTimeStep, startA), poseAtStepStart(m_rbB, m_lastTimeStep, startB));
+	m_poseStepForKinematic = m_lastTimeStep;
 }
 
 void btQuaternionHingeConstraint::getInfo1NonVirtual(btConstraintInfo1* info)
@@ -152,7 +172,11 @@ void btQuaternionHingeConstraint::computeRowCount(btConstraintInfo1* info, const
 
 void btQuaternionHingeConstraint::getInfo2(btConstraintInfo2* info)
 {
-	fillRows(info, m_rbA.getCenterOfMassTransform(), m_rbB.getCenterOfMassTransform(), m_rbA.getAngularVelocity(),
+	const btScalar h = btScalar(1) / info->fps;
+	if (m_rbA.isKinematicObject() || m_rbB.isKinematicObject())
+		m_poseCached = m_poseCached && m_poseStepForKinematic == h;  // cached at another step's start
+	btTransform startA, startB;
+	fillRows(info, poseAtStepStart(m_rbA, h, startA), poseAtStepStart(m_rbB, h, startB), m_rbA.getAngularVelocity(),
 			 m_rbB.getAngularVelocity());
 }
 

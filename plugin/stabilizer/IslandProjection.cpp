@@ -8,9 +8,6 @@
 // Metric: Q13 uses M with every inertia multiplied by the rotation weight w (settings.rotationWeight, 30 by default):
 // a move Δx enters the point rows linearly, a turn Δθ through R(Δθ)·r, whose second-order term makes a step that
 // swings light links (the mass metric's cheapest first-order fix on a long or heavily loaded chain) fall short.
-// An island hung on a moving kinematic body uses M for Q13 too while the body moves: Bullet moves the body before
-// its solver runs, so the island's correction is of order h every step, and in another metric than Bullet's impulses
-// its distribution over the links adds up (docs/ENERGY.md, "Limitations").
 // Q14 always uses M: once a weighted step has gained kMetricSwitchGain, the rest of the step is in M and its last
 // factorization serves the velocities; otherwise they get a factorization of their own.
 //
@@ -48,7 +45,6 @@
 // IslandBodies.h (M⁻¹ in each metric, moving the bodies).
 #include "IslandBodies.h"
 #include "IslandContacts.h"
-#include "IslandInvariants.h"
 #include "IslandRows.h"
 #include "IslandSystem.h"
 #include "StabilizerIsland.h"
@@ -108,7 +104,7 @@ struct IslandStep
 	IslandStep(BlockIsland<R>& i, const ProjectionSettings& s) : island(i), settings(s)
 	{
 		island.stiffMetric = false;
-		island.rotationWeight = settings.positions && !hangsOnMovingBody(island) ? settings.rotationWeight : 1;
+		island.rotationWeight = settings.positions ? settings.rotationWeight : 1;
 		findReferenceMass(island);
 		loadInverseMasses(island);
 		for (JointSlot& js : island.joints)

@@ -85,7 +85,10 @@ public:
 	// ---- btTypedConstraint --------------------------------------------------------------------------------------------
 	/// Bullet's solver interface: how many rows the joint has this step (0 when disabled or faulted).
 	virtual void getInfo1(btConstraintInfo1 * info);
-	/// Bullet's solver interface: the rows' Jacobians, errors, CFM and bounds, in getInfo1's count.
+	/// Bullet's solver interface: the rows' Jacobians, errors, CFM and bounds, in getInfo1's count. A moving
+	/// kinematic body enters at its pose at the step's start (its pose less its velocity over the step): Bullet has
+	/// moved it to the step's end already, and stock's rows, measured there, make its partner run a step ahead of it
+	/// (docs/MIGRATING.md, "Every difference").
 	virtual void getInfo2(btConstraintInfo2 * info);
 	/// For Bullet's non-virtual path: as stock's (which reserves a fixed 6), every row getInfo2NonVirtual may write —
 	/// the bilateral rows, the drive and friction rows when on, and a limit row whenever a limit acts (it is tested
@@ -338,7 +341,8 @@ private:
 	bool m_limitLocked;  // the rest of the last limit test (AxisRows.h's LimitState), for the limit row
 	bool m_limitSpeculative;
 	btScalar m_limitDistance;
-	btScalar m_lastTimeStep;  // h of the last getInfo2 (0 before the first)
+	btScalar m_lastTimeStep;              // h of the last getInfo2 (0 before the first)
+	btScalar m_poseStepForKinematic = 0;  // the h getInfo1 moved a kinematic partner back by (HingeSolverRows.cpp)
 	int m_numRows;
 	btQuaternionHingeFault m_fault;
 	Pose m_pose;  // computed in getInfo1 when an angle was needed, reused by the getInfo2 that follows

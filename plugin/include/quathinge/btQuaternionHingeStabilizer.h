@@ -130,9 +130,7 @@ struct btQuaternionHingeStabilizerSettings
 	/// taut chain (measured at 30: a 100-link chain 2.2 → 1.2 Newton iterations per step, a 1000-link one 3.5 → 1.2;
 	/// docs/PERFORMANCE.md). The quaternion rows still turn the bodies (no move changes them), and any weight converges to
 	/// the same manifold; only the point on it differs, by the order of the error removed. 1 is the mass metric M
-	/// (Cline & Pai). The velocity projection (Q14) always uses M, and so does the position correction of an island
-	/// hung on a moving kinematic body while it moves: its error is then of the order of the step, not of the drift,
-	/// and only M distributes it as Bullet's impulses do (docs/ENERGY.md, "Limitations"). [1, 1e6].
+	/// (Cline & Pai). The velocity projection (Q14) always uses M. [1, 1e6].
 	btScalar positionRotationWeight = btScalar(30);
 	/// Relative diagonal regularization ε of K: K + ε·(trace K / rows)·I. Keeps redundant and closed-loop islands
 	/// finite. [0, 1e-2]; 0 only when no island is ever redundant.
