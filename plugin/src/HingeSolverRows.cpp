@@ -63,7 +63,7 @@ bool isStaticLike(const btRigidBody& body)
 // velocity of that move. Measured there, each step would start a step's motion h·v behind the partner, and the error
 // correction would turn that lead into speed: stock's btHingeConstraint does, and its bodies then run a step ahead of
 // the partner; a post-stabilizer that closes the joint every step takes that speed back every step, a correction of
-// order h rather than the drift's h² (docs/ENERGY.md, "Limitations"). Any other body: its pose.
+// order h rather than the drift's h² (docs/ENERGY.md, "Under an app's forces"). Any other body: its pose.
 const btTransform& poseAtStepStart(const btRigidBody& body, btScalar h, btTransform& scratch)
 {
 	if (!body.isKinematicObject() || !(h > 0) ||
