@@ -15,11 +15,11 @@ using namespace qh_test;
 
 namespace
 {
-const double kSpeed = 1;           // m/s, the kinematic body's along x
-const double kHz = 60;             // the step rate
-const double kSettle = 0.5;        // s: measured from here on (the start's transient left out)
+const double kSpeed = 1;          // m/s, the kinematic body's along x
+const double kHz = 60;            // the step rate
+const double kSettle = 0.5;       // s: measured from here on (the start's transient left out)
 const double kNoLeadShare = 0.1;  // the quaternion hinge's largest separation, as a share of a step's motion h·v (its
-                                  // swing's own drift: 4% measured)
+								  // swing's own drift: 4% measured)
 
 // The largest pivot separation (m) from kSettle to 2 s of a pendulum (a 1 kg box, its pivot 0.5 m above its centre)
 // hung by `quaternion` or stock's hinge from a kinematic box moved at kSpeed.
