@@ -97,7 +97,6 @@ void btQuaternionHingeConstraint::getInfo1(btConstraintInfo1* info)
 	// (the step's h is not in btConstraintInfo1: the last getInfo2's; getInfo2 computes the pose again if it differs)
 	btTransform startA, startB;
 	computeRowCount(info, poseAtStepStart(m_rbA, m_lastTimeStep, startA), poseAtStepStart(m_rbB, m_lastTimeStep, startB));
-	m_poseStepForKinematic = m_lastTimeStep;
 }
 
 void btQuaternionHingeConstraint::getInfo1NonVirtual(btConstraintInfo1* info)
@@ -173,8 +172,8 @@ void btQuaternionHingeConstraint::computeRowCount(btConstraintInfo1* info, const
 void btQuaternionHingeConstraint::getInfo2(btConstraintInfo2* info)
 {
 	const btScalar h = btScalar(1) / info->fps;
-	if (m_rbA.isKinematicObject() || m_rbB.isKinematicObject())
-		m_poseCached = m_poseCached && m_poseStepForKinematic == h;  // cached at another step's start
+	// getInfo1 moved a kinematic partner back by m_lastTimeStep, which fillRows sets to h only below
+	if (m_rbA.isKinematicObject() || m_rbB.isKinematicObject()) m_poseCached = m_poseCached && m_lastTimeStep == h;
 	btTransform startA, startB;
 	fillRows(info, poseAtStepStart(m_rbA, h, startA), poseAtStepStart(m_rbB, h, startB), m_rbA.getAngularVelocity(),
 			 m_rbB.getAngularVelocity());

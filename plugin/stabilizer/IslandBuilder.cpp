@@ -442,13 +442,16 @@ int buildIslands(const Array<SignatureEntry>& scan, bool forceSparse, Array<std:
 	// history (its guard: Island::Invariants) stays with an island's entries, kept or built again: a rebuild elsewhere,
 	// or the app's invalidateStructure() every step, changes no island's energy. A contact that comes or goes
 	// (projectContacts) rebuilds its own island, not the world's.
+	auto same = [](const Array<SignatureEntry>& a, const Array<SignatureEntry>& b) {
+		return a.size() == b.size() && std::equal(a.begin(), a.end(), b.begin());
+	};
 	Array<std::unique_ptr<Island>> old;
 	old.swap(islands);
 	for (Array<SignatureEntry>& entries : groups)
 	{
 		std::unique_ptr<Island> island;
 		for (std::unique_ptr<Island>& o : old)
-			if (o && o->entries.size() == entries.size() && std::equal(entries.begin(), entries.end(), o->entries.begin()))
+			if (o && same(o->entries, entries))
 			{
 				island = std::move(o);
 				forgetProjection(*island);
@@ -459,7 +462,7 @@ int buildIslands(const Array<SignatureEntry>& scan, bool forceSparse, Array<std:
 		{
 			island = buildOne(entries, forceSparse);
 			for (const IslandHistory& h : history)
-				if (h.entries.size() == entries.size() && std::equal(entries.begin(), entries.end(), h.entries.begin()))
+				if (same(h.entries, entries))
 				{
 					island->invariants = h.invariants;
 					break;

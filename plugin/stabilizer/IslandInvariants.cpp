@@ -250,7 +250,6 @@ InvariantResult restoreInvariants(Island& island, ProjectionResult& result, doub
 	if (result.iterations == 0 && result.solves == 0)  // nothing moved: the energy is the recorded one
 	{
 		if (restoreEnergy) updateGuard(island, inv.ledger, 0, timeStep);
-		out.guarded = inv.hold < 1;
 		return out;
 	}
 	// The work of the step's forces on the projection's move (Q16: gravity's and the app's, the lift ΔV when only
@@ -369,7 +368,6 @@ InvariantResult restoreInvariants(Island& island, ProjectionResult& result, doub
 	// counted, the app's and the solver's outside the call not at all): non-zero only where a bound of the scale held.
 	inv.ledger += after + half * afterPower - goal;
 	if (restoreEnergy) updateGuard(island, inv.ledger, after - kinetic, timeStep);
-	out.guarded = inv.hold < 1;
 	return out;
 }
 

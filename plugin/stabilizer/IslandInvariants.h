@@ -37,7 +37,6 @@ struct InvariantResult
 {
 	bool momentumRestored = false;  // a free island's P and L were put back (Q17, Q18)
 	bool energyRestored = false;    // the kinetic energy was set to T* (Q16, Q19)
-	bool guarded = false;           // the guard holds this island's energy restoration back (in part or in full)
 	double scale = 1;               // the velocity scaling applied (Q19), 1 when none
 };
 

@@ -341,8 +341,7 @@ private:
 	bool m_limitLocked;  // the rest of the last limit test (AxisRows.h's LimitState), for the limit row
 	bool m_limitSpeculative;
 	btScalar m_limitDistance;
-	btScalar m_lastTimeStep;              // h of the last getInfo2 (0 before the first)
-	btScalar m_poseStepForKinematic = 0;  // the h getInfo1 moved a kinematic partner back by (HingeSolverRows.cpp)
+	btScalar m_lastTimeStep;  // h of the last getInfo2 (0 before the first)
 	int m_numRows;
 	btQuaternionHingeFault m_fault;
 	Pose m_pose;  // computed in getInfo1 when an angle was needed, reused by the getInfo2 that follows
