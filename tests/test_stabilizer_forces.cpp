@@ -286,53 +286,55 @@ TEST(StabilizerForces, AFreeTumblingChainKeepsItsMomentum)
 	EXPECT_LE(s.angularDrift, bare.angularDrift + kAngularMargin);
 }
 
-// An app spring beyond this design's reach (docs/ENERGY.md, "Limitations"): printed, not asserted (the joints are);
-// a kinematic driver, asserted.
+// An app spring beyond this design's reach (docs/ENERGY.md, "Limitations"): printed, not asserted (the joints are).
 TEST(StabilizerForces, FiguresBeyondTheDesign)
 {
-	{  // two links on a k = 50 N/m app spring in zero gravity
-		ForceChain chain;
-		chain.links = 2;
-		chain.gravity = 0;
-		const ForceHooks hooks = appSpring(50, btVector3(btScalar(0.2), btScalar(10.6), btScalar(0.3)));
-		const ForceRecord s = run(chain, hooks, ForceKind::Stabilized, 60, 20);
-		const ForceRecord s240 = run(chain, hooks, ForceKind::Stabilized, 240, 20);
-		const ForceRecord bare = run(chain, hooks, ForceKind::Bare, 60, 20);
-		const ForceRecord ref = run(chain, hooks, ForceKind::Stock, kReferenceHz, 20);
-		report("spring50", {{"d60", change(s, 0, 20)},
-							{"d240", change(s240, 0, 20)},
-							{"stock", change(ref, 0, 20)},
-							{"bare", change(bare, 0, 20)},
-							{"guard", s.guardTrip},
-							{"sep", std::max(s.maxSeparation, s240.maxSeparation)}});
-		expectHeld(s, "spring k=50");
-	}
-	{  // a kinematic driver: 1 m/s along x for 1 s, then still
-		ForceChain chain;
-		chain.links = 2;
-		chain.hanging = true;
-		chain.planar = true;
-		chain.kinematic = true;
-		ForceHooks hooks;
-		hooks.before = [](StabilizerScene&, const std::vector<btRigidBody*>&, btRigidBody* anchor,
-						  std::vector<btTypedConstraint*>&, double t, double h) {
-			const double x = std::min(t + h, 1.0);
-			anchor->getMotionState()->setWorldTransform(btTransform(btQuaternion::getIdentity(), btVector3(btScalar(x), 10, 0)));
-		};
-		const ForceRecord s = run(chain, hooks, ForceKind::Stabilized, 60, 3);
-		const ForceRecord s240 = run(chain, hooks, ForceKind::Stabilized, 240, 3);
-		const ForceRecord ref = run(chain, hooks, ForceKind::Stock, kReferenceHz, 3);
-		report("kinematic", {{"d60", s.mean(1.5, 2.5)},
-							 {"d240", s240.mean(1.5, 2.5)},
-							 {"stock", ref.mean(1.5, 2.5)},
-							 {"guard", s.guardTrip},
-							 {"sep", std::max(s.maxSeparation, s240.maxSeparation)}});
-		expectHeld(s, "kinematic");
-		expectHeld(s240, "kinematic");
-		// the bound at 60 Hz, and 240 Hz closer
-		const double miss60 = s.mean(1.5, 2.5) / ref.mean(1.5, 2.5) - 1, miss240 = s240.mean(1.5, 2.5) / ref.mean(1.5, 2.5) - 1;
-		EXPECT_LE(std::fabs(miss60), kKinematicBound);
-		EXPECT_LT(std::fabs(miss240), std::fabs(miss60));
-	}
+	// two links on a k = 50 N/m app spring in zero gravity
+	ForceChain chain;
+	chain.links = 2;
+	chain.gravity = 0;
+	const ForceHooks hooks = appSpring(50, btVector3(btScalar(0.2), btScalar(10.6), btScalar(0.3)));
+	const ForceRecord s = run(chain, hooks, ForceKind::Stabilized, 60, 20);
+	const ForceRecord s240 = run(chain, hooks, ForceKind::Stabilized, 240, 20);
+	const ForceRecord bare = run(chain, hooks, ForceKind::Bare, 60, 20);
+	const ForceRecord ref = run(chain, hooks, ForceKind::Stock, kReferenceHz, 20);
+	report("spring50", {{"d60", change(s, 0, 20)},
+						{"d240", change(s240, 0, 20)},
+						{"stock", change(ref, 0, 20)},
+						{"bare", change(bare, 0, 20)},
+						{"guard", s.guardTrip},
+						{"sep", std::max(s.maxSeparation, s240.maxSeparation)}});
+	expectHeld(s, "spring k=50");
+}
+
+// A hanging 2-link chain whose kinematic anchor a motion state drives at 1 m/s along x for 1 s, then holds still: its
+// energy after the stop is within 3% of stock Bullet's at 1 kHz, and closer at 240 Hz than at 60 Hz.
+TEST(StabilizerForces, AChainDraggedByAKinematicBodyConvergesWithTheStep)
+{
+	ForceChain chain;
+	chain.links = 2;
+	chain.hanging = true;
+	chain.planar = true;
+	chain.kinematic = true;
+	ForceHooks hooks;
+	hooks.before = [](StabilizerScene&, const std::vector<btRigidBody*>&, btRigidBody* anchor,
+					  std::vector<btTypedConstraint*>&, double t, double h) {
+		const double x = std::min(t + h, 1.0);
+		anchor->getMotionState()->setWorldTransform(btTransform(btQuaternion::getIdentity(), btVector3(btScalar(x), 10, 0)));
+	};
+	const ForceRecord s = run(chain, hooks, ForceKind::Stabilized, 60, 3);
+	const ForceRecord s240 = run(chain, hooks, ForceKind::Stabilized, 240, 3);
+	const ForceRecord ref = run(chain, hooks, ForceKind::Stock, kReferenceHz, 3);
+	report("kinematic", {{"d60", s.mean(1.5, 2.5)},
+						 {"d240", s240.mean(1.5, 2.5)},
+						 {"stock", ref.mean(1.5, 2.5)},
+						 {"guard", s.guardTrip},
+						 {"sep", std::max(s.maxSeparation, s240.maxSeparation)}});
+	expectHeld(s, "kinematic");
+	expectHeld(s240, "kinematic");
+	// the bound at 60 Hz, and 240 Hz closer
+	const double miss60 = s.mean(1.5, 2.5) / ref.mean(1.5, 2.5) - 1, miss240 = s240.mean(1.5, 2.5) / ref.mean(1.5, 2.5) - 1;
+	EXPECT_LE(std::fabs(miss60), kKinematicBound);
+	EXPECT_LT(std::fabs(miss240), std::fabs(miss60));
 }
 #endif
