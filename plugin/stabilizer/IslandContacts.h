@@ -115,6 +115,26 @@ bool releasePullingContacts(BlockIsland<R>& island)
 	return released;
 }
 
+/// Takes every contact row out of the system for the rest of the step (the position stage's fallback when its Newton
+/// steps with them fail: IslandProjection.cpp). True if the island has contact rows.
+template <int R>
+bool releaseAllContacts(BlockIsland<R>& island)
+{
+	bool any = false;
+	for (size_t j = 0; j < island.joints.size(); ++j)
+	{
+		JointSlot& js = island.joints[j];
+		if (js.contact < 0) continue;
+		any = true;
+		js.contactTouched = 0;
+		js.contactReleased = ~0u;
+		island.blocks[j].jacobian.setZero();
+		island.blocks[j].c.setZero();
+		island.blocks[j].jv.setZero();
+	}
+	return any;
+}
+
 }  // namespace stabilizer
 }  // namespace quathinge
 

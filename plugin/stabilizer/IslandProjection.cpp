@@ -35,7 +35,7 @@
 // Velocity stage: α̇ = 0 only if the stop was violated this step and α̇ still points past it (decided once, before
 // the first solve); a limit row K has and the velocities leave out is taken out by solves with K's factors
 // (IslandSystem.h, solveDeltasWithoutDroppedRows), not by a new factorization. A Newton step that takes a joint past
-// a stop K does not have is kept whatever the residual says (it counts the new row).
+// a stop K does not have is kept unless the residual (which counts the new row) grew by more than kActiveSetGrowth.
 // s = trace(K)/(active rows); ε s on the diagonal keeps K positive definite with redundant rows (closed loops); a
 // padding or inactive limit row gets s on its diagonal and a zero right-hand side, so its λ is 0.
 // Units: C in m (linear rows) and rad (angular, limit); λ in kg·m (linear) and kg·m²·rad (angular).
@@ -75,6 +75,9 @@ const btScalar kVelocityChordProgress = btScalar(0.5);
 // 1:10000 load gains less per step and keeps the weight, which it needs).
 const btScalar kMetricSwitchGain = btScalar(0.01);
 
+// A Newton step that takes a joint past a stop (or a contact into the ground) that K did not have is kept while the
+// normalized residual, which then counts the new row, grows by no more than this factor.
+const btScalar kActiveSetGrowth = btScalar(4);
 // Halvings of a Newton step that made ‖C‖ worse before it is undone.
 const int kMaxHalvings = 2;
 // Slow progress within this factor of the rounding floor (normalized residual) ends the iterations.
@@ -100,6 +103,8 @@ struct IslandStep
 	bool factorInM = false;
 	// JointBlock::leftover holds this step's C_r (recordLeftover).
 	bool leftoverRecorded = false;
+	// The contact rows were taken out for the rest of the step (projectPositions' fallback).
+	bool contactsDropped = false;
 
 	IslandStep(BlockIsland<R>& i, const ProjectionSettings& s) : island(i), settings(s)
 	{
@@ -276,8 +281,11 @@ struct IslandStep
 				// that new row, so it is no measure of the step (a correct step measured "worse" here was halved, undone
 				// and retried in the stiff metric, and could end the loop unconverged). Keep it; the next iteration
 				// factorizes with the row. The active set only grows within a step, so this happens at most once per
-				// limit.
-				if (res.limitsChanged) continue;
+				// limit. Not a step that made ‖C‖ grow by more than kActiveSetGrowth: a correct step adds about its own length
+				// at the new stop, while one that grows it more has left the linearization behind (a ragdoll's contact rows
+				// with a nearly singular K, double: a first step from 0.09 to 22 m; kept, Newton then converged to a pose
+				// with a leg 0.56 m into the ground); it is halved and undone as any step that makes ‖C‖ worse.
+				if (res.limitsChanged && res.normalized <= kActiveSetGrowth * start.normalized) continue;
 				// Backtracking: a step that makes ‖C‖ worse (far from the solution in a nearly singular pose, e.g. a taut
 				// chain, the linearization overshoots) is halved, at most kMaxHalvings times, else undone.
 				for (int halving = 0; res.normalized >= start.normalized && halving < kMaxHalvings; ++halving)
@@ -300,7 +308,15 @@ struct IslandStep
 					// No step along this Newton direction helps. The mass metric's direction can be the culprit (a
 					// nearly straight chain of light links under a heavy load: bending them is cheap to first order and
 					// useless to second); retry once with the stiff metric, else leave the positions as they were.
-					if (factorNow && !useStiffMetric()) break;
+					if (factorNow && !useStiffMetric())
+					{
+						// Neither metric helps. With contact rows in the system they are the likely cause: up to four
+						// points of a pair, each held as an equation, whose depths no rigid move meets (measured: a
+						// ragdoll's first step 0.09 → 22 m). Once per step, the joints alone, as without projectContacts.
+						if (contactsDropped || !releaseAllContacts(island)) break;
+						contactsDropped = true;
+						res = evaluatePositions(island, settings.tolerance);
+					}
 					chordStalled = true;
 					continue;
 				}
