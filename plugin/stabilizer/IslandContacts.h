@@ -90,6 +90,22 @@ btScalar evaluateContactRows(const Island& island, JointSlot& js, JointBlock<R>&
 	return worst;
 }
 
+/// Takes the contact rows of island.joints[j] whose bits are in `rows` out of the system for the rest of the step.
+template <int R>
+void releaseContactRows(BlockIsland<R>& island, size_t j, unsigned rows)
+{
+	JointSlot& js = island.joints[j];
+	js.contactTouched &= ~rows;
+	js.contactReleased |= rows;
+	for (int r = 0; r < R; ++r)
+		if (rows & (1u << r))
+		{
+			island.blocks[j].jacobian.row(r).setZero();
+			island.blocks[j].c[r] = 0;
+			island.blocks[j].jv[r] = 0;
+		}
+}
+
 /// After a solve (λ in island.lambda): takes out of the system every contact row whose λ pulls (λ < 0: the row would
 /// hold its body down, the other rows lift it off) for the rest of the step. True if it took any out (then K must be
 /// factorized again and the solve repeated).
@@ -99,18 +115,13 @@ bool releasePullingContacts(BlockIsland<R>& island)
 	bool released = false;
 	for (size_t j = 0; j < island.joints.size(); ++j)
 	{
-		JointSlot& js = island.joints[j];
-		if (js.contact < 0) continue;
+		if (island.joints[j].contact < 0) continue;
+		unsigned pulling = 0;
 		for (int r = 0; r < R; ++r)
-			if ((js.contactTouched & (1u << r)) && island.lambda[j][r] < 0)
-			{
-				js.contactTouched &= ~(1u << r);
-				js.contactReleased |= 1u << r;
-				island.blocks[j].jacobian.row(r).setZero();
-				island.blocks[j].c[r] = 0;
-				island.blocks[j].jv[r] = 0;
-				released = true;
-			}
+			if ((island.joints[j].contactTouched & (1u << r)) && island.lambda[j][r] < 0) pulling |= 1u << r;
+		if (pulling == 0) continue;
+		releaseContactRows(island, j, pulling);
+		released = true;
 	}
 	return released;
 }
@@ -123,14 +134,9 @@ bool releaseAllContacts(BlockIsland<R>& island)
 	bool any = false;
 	for (size_t j = 0; j < island.joints.size(); ++j)
 	{
-		JointSlot& js = island.joints[j];
-		if (js.contact < 0) continue;
+		if (island.joints[j].contact < 0) continue;
 		any = true;
-		js.contactTouched = 0;
-		js.contactReleased = ~0u;
-		island.blocks[j].jacobian.setZero();
-		island.blocks[j].c.setZero();
-		island.blocks[j].jv.setZero();
+		releaseContactRows(island, j, (1u << R) - 1);
 	}
 	return any;
 }
