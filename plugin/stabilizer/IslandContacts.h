@@ -127,7 +127,7 @@ bool releasePullingContacts(BlockIsland<R>& island)
 }
 
 /// Takes every contact row out of the system for the rest of the step (the position stage's fallback when its Newton
-/// steps with them fail: IslandProjection.cpp). True if the island has contact rows.
+/// steps with them fail: IslandProjection.cpp). True if any was in the system (else nothing changed: no retry).
 template <int R>
 bool releaseAllContacts(BlockIsland<R>& island)
 {
@@ -135,7 +135,7 @@ bool releaseAllContacts(BlockIsland<R>& island)
 	for (size_t j = 0; j < island.joints.size(); ++j)
 	{
 		if (island.joints[j].contact < 0) continue;
-		any = true;
+		any = any || island.joints[j].contactTouched != 0;
 		releaseContactRows(island, j, (1u << R) - 1);
 	}
 	return any;
