@@ -9,6 +9,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <cstring>
 #include <functional>
@@ -142,24 +143,31 @@ TEST(StabilizerRest, LimitedChainsAtRestAreReplayedToTheBit)
 TEST(StabilizerRest, ChainsRestingAgainstTheirStopsAreReplayedToTheBit)
 {
 	// Chains folded against their stops do not reach a fixed point: Bullet's stop rows and the projection settle into a
-	// cycle of states. The rest cache keeps the last two projections and replays either, so a chain whose state comes
-	// back every second step (the bodies' velocities alternate to the bit) is replayed at every step; before, such an
-	// island was projected every step. Which chains settle into a cycle of two is a matter of the platform's bits
-	// (docs/PLATFORMS.md): over steps 200-299 of 2 chains of 4 links, both on x86-64 Linux, one on aarch64 and one on
-	// Windows x86-64 (MinGW-w64: the other bounces on its stops in a cycle of 10 steps at 0.14 m/s). So the test finds
-	// the chains whose state repeats that of two steps before and asserts that exactly those are replayed, at least one.
+	// cycle of states. The rest cache keeps the last 8 projections and replays any, so a chain whose state comes back
+	// every second, third … eighth step (the bodies' velocities go round to the bit) is replayed at every step (with
+	// two kept, a cycle of six was projected every step). How long the cycle is, is a matter of the
+	// platform's bits (docs/PLATFORMS.md): over steps 200-299 of 2 chains of 4 links, both in a cycle of two on
+	// x86-64 Linux, both in a cycle of six on Windows x86-64 (MinGW-w64; one of them bouncing on its stops at
+	// 0.14 m/s). So the test finds the chains whose state repeats that of one of the 8 steps before and asserts that
+	// exactly those are replayed, at least one at every step.
 	const int chains = 2, links = 4;
 	RestWorld w(chains, links, 2);
-	std::vector<std::vector<unsigned char>> history[chains];  // each chain's state at the start of the last 3 steps
-	int resting = 0, cycling = 0;
+	std::vector<std::vector<unsigned char>> history[chains];  // each chain's state at the start of the last 9 steps
+	int resting = 0, cycling = 0, longest = 0;
 	for (int i = 0; i < 300; ++i)
 	{
 		int cyclingNow = 0;
 		for (int c = 0; c < chains; ++c)
 		{
 			history[c].push_back(state(w, std::size_t(c * links), std::size_t(links)));
-			if (history[c].size() > 3) history[c].erase(history[c].begin());
-			if (history[c].size() == 3 && history[c][2] == history[c][0]) ++cyclingNow;  // starts as 2 steps ago
+			if (history[c].size() > 9) history[c].erase(history[c].begin());
+			for (std::size_t age = 1; age < history[c].size(); ++age)
+				if (history[c].back() == history[c][history[c].size() - 1 - age])  // starts as `age` steps ago
+				{
+					++cyclingNow;
+					if (i >= 200) longest = std::max(longest, int(age));
+					break;
+				}
 		}
 		w.step();
 		if (i < 200) continue;
@@ -172,8 +180,10 @@ TEST(StabilizerRest, ChainsRestingAgainstTheirStopsAreReplayedToTheBit)
 			EXPECT_EQ(stats.factorizations, 0) << "step " << i;  // nothing left to project
 		}
 	}
-	std::printf("[ figures  ] islands replayed over steps 200-299: %d of %d (chains in a cycle of two: %d)\n", resting,
-				100 * chains, cycling);
+	std::printf(
+		"[ figures  ] islands replayed over steps 200-299: %d of %d (chains in a cycle of up to 8 steps: %d; "
+		"the longest cycle: %d steps)\n",
+		resting, 100 * chains, cycling, longest);
 	EXPECT_GE(resting, 100);                                    // at least one chain at every one of the last 100 steps
 	EXPECT_GT(w.stabilizer.getLastStats().activeLimitRows, 0);  // at their stops
 	// and to the bit what the projection gives

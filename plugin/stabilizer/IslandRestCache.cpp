@@ -172,15 +172,14 @@ bool replayIfAtRest(Island& island, btScalar timeStep, ProjectionResult& result)
 			s.valid = false;
 		}
 	}
-	// the last step's state first (a fixed point), then the one before (a cycle of two)
-	const int last = 1 - cache.pending;
+	// the last step's state first (a fixed point), then older ones (a cycle of two, three … steps); a moving island
+	// differs from each in its first body's pose, so the comparisons stop at their first bytes
 	const RestState* match = nullptr;
-	for (const int k : {last, cache.pending})
-		if (cache.state[k].valid && std::memcmp(cache.current.data(), cache.state[k].inputs.data(), n * sizeof(btScalar)) == 0)
-		{
-			match = &cache.state[k];
-			break;
-		}
+	for (int age = 1; age <= kRestStates && !match; ++age)
+	{
+		const RestState& kept = cache.state[(cache.pending + kRestStates - age) % kRestStates];
+		if (kept.valid && std::memcmp(cache.current.data(), kept.inputs.data(), n * sizeof(btScalar)) == 0) match = &kept;
+	}
 	if (!match)
 	{
 		RestState& into = cache.state[cache.pending];
@@ -229,7 +228,7 @@ void rememberProjection(Island& island, const ProjectionResult& result)
 	gatherOutputs(island, into.outputs);
 	into.result = result;
 	into.valid = true;
-	cache.pending = 1 - cache.pending;  // the other state is now the older one
+	cache.pending = (cache.pending + 1) % kRestStates;  // the next one is now the oldest
 }
 
 void forgetProjection(Island& island)

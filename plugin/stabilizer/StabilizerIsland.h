@@ -241,13 +241,14 @@ struct RestState
 	ProjectionResult result;  // that projection's (its counters also say which of the bodies' state it set)
 	bool valid = false;
 };
-/// The last two projections: an island at rest under Bullet's solver reaches a fixed point, or, with a stop or a
-/// slider's stop held, a cycle of two states (IslandRestCache.h); either is replayed.
+/// The last kRestStates projections: an island at rest under Bullet's solver reaches a fixed point, or, with a stop
+/// or a slider's stop held, a cycle of a few states (IslandRestCache.h); any of them is replayed.
+const int kRestStates = 8;
 struct RestCache
 {
-	RestState state[2];
+	RestState state[kRestStates];
 	Array<btScalar> current;  // this step's inputs, gathered to compare (kept to avoid allocating)
-	int pending = 0;          // the state a projection that runs now goes into (the older one)
+	int pending = 0;          // the state a projection that runs now goes into (the oldest one)
 };
 
 /// The joints of an island by kind (btQuaternionHingeStabilizerStats): quaternion, stock and 6-dof hinges, point
