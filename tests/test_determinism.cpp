@@ -42,16 +42,16 @@ const btScalar kLimitSlack = btScalar(0.1);  // rad: how far past a stop the san
 #if defined(__x86_64__) && defined(__linux__)
 #define QH_GOLDEN_PLATFORM "x86-64 Linux, Debian's Bullet"
 #ifdef BT_USE_DOUBLE_PRECISION
-#define QH_GOLDEN_HASH 0x498a2c689caba9d6ULL
+#define QH_GOLDEN_HASH 0x8bdcfa08cbe16eb2ULL
 #else
-#define QH_GOLDEN_HASH 0xe70183069a052b31ULL
+#define QH_GOLDEN_HASH 0x94eb0d13902d887fULL
 #endif
 #elif defined(__aarch64__) && defined(__linux__) && !defined(BT_USE_DOUBLE_PRECISION)
 #define QH_GOLDEN_PLATFORM "aarch64 Linux, Bullet from source"
-#define QH_GOLDEN_HASH 0x173f7ed8e52d5cdbULL
+#define QH_GOLDEN_HASH 0x3524b0fa7c5a8007ULL
 #elif defined(_WIN64) && defined(__MINGW64__) && !defined(BT_USE_DOUBLE_PRECISION)
 #define QH_GOLDEN_PLATFORM "Windows x86-64 MinGW-w64, Bullet from source"
-#define QH_GOLDEN_HASH 0x3ae108447d8f3bf8ULL
+#define QH_GOLDEN_HASH 0x30daafa0592a6c46ULL
 #endif
 
 // 64-bit FNV-1a.

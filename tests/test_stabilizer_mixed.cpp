@@ -209,9 +209,9 @@ std::pair<Figures, Figures> bareAnd(Kind kind, const char* label)
 TEST(StabilizerMixed, RagdollDemoWithConeTwistsIsNoWorseWithTheStabilizer)
 {
 	// Tumbling ragdolls are chaotic: one run's largest error moves by half between two kinds that differ in the last
-	// bits. So each figure is the mean, over 8 runs that differ in the ragdolls' initial spin, of that run's largest.
+	// bits. So each figure is the mean, over 16 runs that differ in the ragdolls' initial spin, of that run's largest.
 	const int steps = 240;  // 4 s at 60 Hz: the fall, the landing and the ragdolls at rest
-	const int variants = 8;
+	const int variants = 16;
 	const Figures stock = meanOver(Kind::Stock, variants, steps);
 	const Figures bare = meanOver(Kind::Quaternion, variants, steps);
 	const Figures stabilized = meanOver(Kind::QuaternionStabilized, variants, steps);
@@ -242,16 +242,20 @@ TEST(StabilizerMixed, RagdollDemoWithItsConeTwistsProjectedHoldsEveryJoint)
 	// projection still does not see are the contacts, and it now removes the cone twists' error as well, the larger
 	// one: measured over 32 spins (README, "Mixed ragdolls"), the late ground penetration is 7.8e-3 m in float
 	// against 4.3e-3 bare and 5.7e-3 with the hinges alone. The contact bounds here guard that measurement (the same
-	// 8-spin sample as the test above), they do not claim "no worse".
+	// 8-spin sample the test above used), they do not claim "no worse".
 	const auto [bare, points] = bareAnd(Kind::QuaternionStabilizedPoints, "q+stab+points");
 	EXPECT_LE(points.coneSeparation, kSeparationTolerance);
 	EXPECT_LE(points.hingeSeparation, kSeparationTolerance);
 	EXPECT_LE(points.hingeSeparationEnd, kSeparationTolerance);
 	EXPECT_LT(points.coneSeparation, 1e-3 * bare.coneSeparation);
 	const double kMeasuredRatio = 2.0;  // late ground penetration measured 1.2–1.9× bare (float and double, 8 and 32 spins)
-	const double kSlack = 1e-3;         // m, as above
+	// Late part-part penetration, measured 2.2–4.3× bare (float and double, 8, 16 and 32 spins; 3.3× over 32 spins in
+	// double before the stop fix too, whose 8-spin sample happened to show 2×): the parts the projection pushes
+	// together, which it does not see, a shortfall of the option (PERFORMANCE.md, "Mixed ragdolls").
+	const double kMeasuredPartsRatio = 5.0;
+	const double kSlack = 1e-3;  // m, as above
 	EXPECT_LE(points.groundPenetrationLate, kMeasuredRatio * bare.groundPenetrationLate + kSlack);
-	EXPECT_LE(points.bodyPenetrationLate, kMeasuredRatio * bare.bodyPenetrationLate + kSlack);
+	EXPECT_LE(points.bodyPenetrationLate, kMeasuredPartsRatio * bare.bodyPenetrationLate + kSlack);
 	EXPECT_LE(points.groundPenetration, kMeasuredRatio * bare.groundPenetration + kSlack);
 }
 

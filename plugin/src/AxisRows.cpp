@@ -6,7 +6,7 @@
 namespace quathinge
 {
 AxialRow limitRow(const btQuaternionHingeSettings& s, const LimitState& limit, btScalar rate, btScalar fps,
-				  btScalar stopErp)
+				  btScalar stopErp, btScalar impactSpeed)
 {
 	AxialRow row;
 	if (limit.locked)
@@ -21,15 +21,20 @@ AxialRow limitRow(const btQuaternionHingeSettings& s, const LimitState& limit, b
 	{
 		// reach the stop within this step, not beyond: approach rate at most distance·fps
 		row.error = -sign * limit.distance * fps;
+		// caught at the stop by the last step's row, and left a rounding's distance short of it (double lands there):
+		// the bounce of that hit all the same
+		const btScalar bounce = s.limitBiasFactor * sign * s.limitRelaxationFactor * impactSpeed;
+		if (impactSpeed > 0 && sign * bounce > sign * row.error) row.error = bounce;
 	}
 	else
 	{
 		// at or past the stop: btHingeConstraint's correction and bounce, scaled by the bias factor
 		btScalar target = sign * stopErp * fps * (-limit.distance);
-		const btScalar approach = sign * rate;  // < 0 while moving into the stop
-		if (approach < 0)
+		// the speed of the hit: moving into the stop now, or caught at it by the last step's speculative row
+		const btScalar incoming = btMax(-sign * rate, impactSpeed);
+		if (incoming > 0)
 		{
-			const btScalar bounce = -s.limitRelaxationFactor * rate;
+			const btScalar bounce = sign * s.limitRelaxationFactor * incoming;
 			if (sign * bounce > sign * target) target = bounce;
 		}
 		row.error = s.limitBiasFactor * target;

@@ -7,6 +7,12 @@
 //   (the speculative row is on once the stop is within (1 − softness)·half-range + |α̇|·h)
 //   (upper stop mirrored, impulse ≤ 0; low == high: bilateral lock). b = biasFactor, r = relaxationFactor (bounce),
 //   as btHingeConstraint's row; the speculative form lets the joint reach the stop within the step but not pass it.
+//   α̇₀ is the speed the joint met the stop with: the larger of the current approach and the speed the last step's
+//   speculative row caught it at (which leaves only the rest of the speed for this step; a catch slower than
+//   0.2 rad/s, Bullet's contact restitution threshold, is not remembered), so the bounce is stock's r·b·α̇₀ wherever
+//   within the step the stop was met. A stop row only pushes: impulse bounds [0, ∞) (lower) or
+//   (−∞, 0] (upper) along J_α, targets that never ask the joint into the stop; on a joint to a static body the row is
+//   taken off the tangential point row by an exact row operation that keeps those bounds (HingeSolverRows.cpp).
 //   velocity motor:  α̇ = v_target, |impulse| ≤ maxMotorImpulse                   (btHingeConstraint's motor)
 //   servo:           α̇ = clamp((α_target − α)·fps, ±maxSpeed), |impulse| ≤ maxTorque/fps   (reaches in one step)
 //   spring:          implicit Euler of α̈ = −ω²(α − rest) − 2ζω α̇, ω = 2πf, for the pair's effective inertia:
@@ -75,8 +81,10 @@ struct AxialRow
 	btScalar upper = 0;
 };
 
+/// impactSpeed: the speed the joint met the stop with in the last step, when a speculative row stopped it there (that
+/// row leaves it only the rest of its speed, which the bounce must not take for the speed of the hit); 0 otherwise.
 AxialRow limitRow(const btQuaternionHingeSettings& s, const LimitState& limit, btScalar rate, btScalar fps,
-				  btScalar stopErp);
+				  btScalar stopErp, btScalar impactSpeed = 0);
 /// Whether the drive currently needs a row (a drive with a zero impulse bound does nothing and gets no row). Inline:
 /// asked twice per joint and step.
 inline bool driveActive(const btQuaternionHingeSettings& s)

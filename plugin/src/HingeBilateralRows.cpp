@@ -89,7 +89,7 @@ btScalar inverseInertiaAbout(const InverseInertiaLanes& inertia, const Lanes& w)
 }  // namespace
 
 int btQuaternionHingeConstraint::fillBilateralRows(btConstraintInfo2* info, const btTransform& transA,
-												   const btTransform& transB, const Pose& pose, const btVector3* stopAxis) const
+												   const btTransform& transB, const Pose& pose) const
 {
 	// pose: joint frame A's basis and both pivots in world; q = a* ⊗ b (Q2).
 	const int skip = info->rowskip;
@@ -298,20 +298,6 @@ int btQuaternionHingeConstraint::fillBilateralRows(btConstraintInfo2* info, cons
 			// Jacobian only: the error stays the pivot's, above)
 			if (freeAxialArm && i == 2)
 				takeOffQuaternionRows(staticB ? -angularA : angularB, btScalar(1), angularA, angularB, nullptr);
-			// at a stop that binds on a joint to a static body (fillRows gives the stop row's direction α), the tangential
-			// row's lever too: its part about the hinge is taken off with the stop row (exact while the stop holds), the
-			// rest with the quaternion rows' Jacobian (the error stays the pivot's own, as the axial row's)
-			if (stopAxis && axisRow && i == 1 && quaternionRowsIndependent)
-			{
-				const Lanes alpha = lanesOf(*stopAxis);
-				const btScalar alpha2 = dotXyz(alpha, alpha);
-				if (alpha2 > SIMD_EPSILON)
-				{
-					Lanes& lever = staticB ? angularA : angularB;
-					lever -= alpha * (dotXyz(lever, alpha) / alpha2);
-					takeOffQuaternionRows(staticB ? -angularA : angularB, btScalar(1), angularA, angularB, nullptr);
-				}
-			}
 			storeXyzNegatedAndAsIs(info->m_J1linearAxis + at, info->m_J2linearAxis + at, e);
 			storeXyz(info->m_J1angularAxis + at, angularA);
 			storeXyz(info->m_J2angularAxis + at, angularB);

@@ -335,6 +335,7 @@ void btQuaternionHingeConstraint::initFromSettings()
 	m_limitLocked = false;
 	m_limitSpeculative = false;
 	m_limitDistance = 0;
+	m_limitImpactSpeed = 0;
 	m_lastTimeStep = 0;
 	m_numRows = 0;
 	m_fault = BT_QHINGE_FAULT_NONE;

@@ -323,7 +323,7 @@ private:
 	bool needsAngle() const;
 	void computeRowCount(btConstraintInfo1 * info, const btTransform& transA, const btTransform& transB);
 	int fillBilateralRows(btConstraintInfo2 * info, const btTransform& transA, const btTransform& transB,
-						  const Pose& pose, const btVector3* stopAxis) const;
+						  const Pose& pose) const;
 	void decoupleRows(btConstraintInfo2 * info, int rows) const;
 	void fillRows(btConstraintInfo2 * info, const btTransform& transA, const btTransform& transB,
 				  const btVector3& angVelA, const btVector3& angVelB);
@@ -341,7 +341,8 @@ private:
 	bool m_limitLocked;  // the rest of the last limit test (AxisRows.h's LimitState), for the limit row
 	bool m_limitSpeculative;
 	btScalar m_limitDistance;
-	btScalar m_lastTimeStep;  // h of the last getInfo2 (0 before the first)
+	btScalar m_limitImpactSpeed;  // the speed the last step's speculative stop row met its stop with (0: none)
+	btScalar m_lastTimeStep;      // h of the last getInfo2 (0 before the first)
 	int m_numRows;
 	btQuaternionHingeFault m_fault;
 	Pose m_pose;  // computed in getInfo1 when an angle was needed, reused by the getInfo2 that follows
