@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # README's test command: set up, build both Bullet precisions, run every test. CI runs the same, then --asan-only.
 #   bash cmake/run-tests.sh                    float and double builds (build/, build-double/)
-#   bash cmake/run-tests.sh --asan             also the AddressSanitizer + UBSan Debug build at -O1 (build-asan/)
+#   bash cmake/run-tests.sh --asan             also the AddressSanitizer + UBSan Debug build at -O1, Clang (build-asan/)
 #   bash cmake/run-tests.sh --asan-only        only the sanitizer build
 #   bash cmake/run-tests.sh DIR [CMAKE_ARGS…]  one build: configure DIR with the extra arguments, build, ctest
 set -euo pipefail
@@ -14,7 +14,9 @@ build_and_test() {
   cmake --build "$dir" -j2
   ctest --test-dir "$dir" --output-on-failure -j2
 }
-asan() { build_and_test build-asan -DQUATHINGE_SANITIZE=ON -DCMAKE_BUILD_TYPE=Debug; }
+# Clang: its sanitized build of the tests takes about 0.55 times GCC's CPU (the heaviest test file 3.6 s against 6.6 s
+# at -O1 -g1), and its ASan and UBSan are the same runtimes' checks.
+asan() { build_and_test build-asan -DQUATHINGE_SANITIZE=ON -DCMAKE_BUILD_TYPE=Debug -DCMAKE_CXX_COMPILER=clang++; }
 
 case "${1:-}" in
   -* ) [[ "$1" == --asan || "$1" == --asan-only ]] ||
