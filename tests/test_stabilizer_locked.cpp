@@ -209,6 +209,171 @@ TEST(StabilizerLocked, SliderAndWeldHoldWithTheHingesWithTheOptionAndNotWithout)
 	ASSERT_TRUE(on.scene.allFinite());
 }
 
+TEST(StabilizerLocked, OlderSixDofLocksMeanWhatBulletMeasures)
+{
+	// The rows of a btGeneric6DofConstraint (and so of btGeneric6DofSpringConstraint) weld or slider, against the
+	// older 6-dof's own measure at the same transforms (calculateTransforms): each locked linear row's C is Bullet's
+	// getRelativePivotPosition less the locked value, to rounding, whichever frame its rows are built along; the three
+	// angular rows' C (2 q_v, frame A's coordinates) is its Euler angles (getAngle) to first order, so within the
+	// square of the turn near the lock, with the opposite sign (the older 6-dof reads its relative rotation's elements
+	// transposed, btGetMatrixElem: B turned by +θ about frame A's x reads −θ; only the locks at 0 are taken, which mean
+	// the same either way). Seeded random frames, locks and poses within 0.01 rad and 1 cm of the lock.
+	std::mt19937 rng(11);
+	std::uniform_real_distribution<double> u(-1, 1);
+	auto vec = [&](double s) { return btVector3(btScalar(s * u(rng)), btScalar(s * u(rng)), btScalar(s * u(rng))); };
+	btBoxShape shape(btVector3(btScalar(0.2), btScalar(0.1), btScalar(0.1)));
+	btRigidBody a(1, nullptr, &shape), b(1, nullptr, &shape);
+	const double linearTolerance = kDouble ? 1e-12 : 2e-6;  // m: rounding of coordinates up to a few metres
+	for (int n = 0; n < 100; ++n)
+	{
+		const btTransform fa(randomUnit(rng), vec(0.3)), fb(randomUnit(rng), vec(0.3));
+		std::unique_ptr<btGeneric6DofConstraint> c(new btGeneric6DofConstraint(a, b, fa, fb, n % 2 == 0));
+		const btVector3 lock = vec(0.1);
+		const int pattern = n % 8;  // which linear axes are locked
+		btVector3 low(1, 1, 1), high(-1, -1, -1);
+		for (int i = 0; i < 3; ++i)
+			if (pattern & (1 << i)) low[i] = high[i] = lock[i];
+		c->setLinearLowerLimit(low);
+		c->setLinearUpperLimit(high);
+		c->setAngularLowerLimit(btVector3(0, 0, 0));
+		c->setAngularUpperLimit(btVector3(0, 0, 0));
+		const quathinge::stabilizer::DofLocks locks = quathinge::stabilizer::dofLocks(*c);
+		ASSERT_TRUE(quathinge::stabilizer::hasLockedRows(locks));
+		// B where the locks put it, then turned by up to 0.01 rad and moved by up to 1 cm
+		const btTransform tA(randomUnit(rng), vec(2));
+		const btTransform frameAWorld = tA * fa;
+		const btVector3 turn = vec(0.01 / std::sqrt(3.0));
+		const btTransform frameBWorld(expRotation(turn) * frameAWorld.getRotation(),
+									  frameAWorld * btVector3(lock.x() * (pattern & 1), lock.y() * ((pattern >> 1) & 1),
+															  lock.z() * ((pattern >> 2) & 1)) +
+										  vec(0.01));
+		const btTransform tB = frameBWorld * fb.inverse();
+		btScalar C[6], J[72];
+		const int rows = quathinge::stabilizer::lockedPositionRows(*c, tA, tB, C, J);
+		ASSERT_EQ(rows, 3 + (pattern & 1) + ((pattern >> 1) & 1) + ((pattern >> 2) & 1));
+		c->calculateTransforms(tA, tB);
+		int r = 0;
+		for (int i = 0; i < 3; ++i)
+			if (pattern & (1 << i))
+			{
+				EXPECT_NEAR(double(C[r]), double(c->getRelativePivotPosition(i) - lock[i]), linearTolerance)
+					<< "configuration " << n << ", linear axis " << i;
+				++r;
+			}
+		const double turned = double(turn.length());
+		for (int i = 0; i < 3; ++i)
+			EXPECT_NEAR(double(C[r + i]), -double(c->getAngle(i)), turned * turned + (kDouble ? 1e-12 : 1e-6))
+				<< "configuration " << n << ", angle " << i;
+	}
+}
+
+namespace
+{
+// A 4-link chain released horizontally at 10 m, its joints from Bullet's older 6-dof family, as apps made them before
+// btGeneric6DofSpring2Constraint: a quaternion hinge (z) to the world, then a btGeneric6DofConstraint weld held 2 cm
+// off along its frame's y, a btGeneric6DofSpringConstraint slider (x free within ±0.2 m, a spring on it), and a
+// btGeneric6DofConstraint ball (angles free) whose rows Bullet builds along frame B (useLinearReferenceFrameA false).
+struct OldDofChain
+{
+	StabilizerScene scene;
+	btGeneric6DofConstraint *weld, *ball;
+	btGeneric6DofSpringConstraint* slide;
+	OldDofChain()
+	{
+		std::vector<btRigidBody*> links;
+		for (int i = 0; i < 4; ++i)
+			links.push_back(scene.box(btVector3(kLink / 2, btScalar(0.05), btScalar(0.05)), 1,
+									  btVector3(kLink * (btScalar(i) + btScalar(0.5)), btScalar(10) + (i >= 2 ? btScalar(0.02) : 0), 0)));
+		const btVector3 left(-kLink / 2, 0, 0), right(kLink / 2, 0, 0);
+		scene.hingeToWorld(*links[0], left, btVector3(0, 0, 1));
+		btTransform fa = btTransform::getIdentity(), fb = btTransform::getIdentity();
+		fa.setOrigin(right);
+		fb.setOrigin(left);
+		weld = new btGeneric6DofConstraint(*links[0], *links[1], fa, fb, true);
+		weld->setLinearLowerLimit(btVector3(0, 0, 0));
+		weld->setLinearUpperLimit(btVector3(0, 0, 0));
+		weld->setAngularLowerLimit(btVector3(0, 0, 0));
+		weld->setAngularUpperLimit(btVector3(0, 0, 0));
+		scene.addConstraint(weld);
+		// (links 2 and 3 start 2 cm up: the weld above holds link 1 level, the slider's y lock is at 2 cm)
+		slide = new btGeneric6DofSpringConstraint(*links[1], *links[2], fa, fb, true);
+		slide->setLinearLowerLimit(btVector3(btScalar(-0.2), btScalar(0.02), 0));
+		slide->setLinearUpperLimit(btVector3(btScalar(0.2), btScalar(0.02), 0));
+		slide->setAngularLowerLimit(btVector3(0, 0, 0));
+		slide->setAngularUpperLimit(btVector3(0, 0, 0));
+		slide->enableSpring(0, true);
+		slide->setStiffness(0, 50);
+		scene.addConstraint(slide);
+		ball = new btGeneric6DofConstraint(*links[2], *links[3], fa, fb, false);
+		ball->setLinearLowerLimit(btVector3(0, 0, 0));
+		ball->setLinearUpperLimit(btVector3(0, 0, 0));
+		ball->setAngularLowerLimit(btVector3(1, 1, 1));  // low > high: free
+		ball->setAngularUpperLimit(btVector3(-1, -1, -1));
+		scene.addConstraint(ball);
+		links[3]->setAngularVelocity(btVector3(3, 0, 2));  // rad/s: the last link whips out of the plane
+	}
+	// Steps 2 s: the largest error (m, rad) of the three 6-dofs after any step, as Bullet's 6-dof measures it itself
+	// (calculateTransforms: getRelativePivotPosition, frame A's axes · (p_B − p_A), against each locked value; getAngle,
+	// its Euler angles, against the locks at 0), and the largest hinge separation (m).
+	void run(double& hinge, double& distance, double& angle)
+	{
+		hinge = distance = angle = 0;
+		for (int i = 0; i < 120; ++i)
+		{
+			scene.world().stepSimulation(kTimeStep, 0);
+			double separation, misalignment;
+			scene.jointErrors(separation, misalignment);
+			hinge = std::max(hinge, separation);
+			for (btGeneric6DofConstraint* c : {weld, static_cast<btGeneric6DofConstraint*>(slide), ball})
+			{
+				c->calculateTransforms();
+				btVector3 low, high, angularLow, angularHigh;
+				c->getLinearLowerLimit(low);
+				c->getLinearUpperLimit(high);
+				c->getAngularLowerLimit(angularLow);
+				c->getAngularUpperLimit(angularHigh);
+				for (int k = 0; k < 3; ++k)
+				{
+					if (low[k] == high[k]) distance = std::max(distance, std::fabs(double(c->getRelativePivotPosition(k) - low[k])));
+					if (angularLow[k] == angularHigh[k]) angle = std::max(angle, std::fabs(double(c->getAngle(k) - angularLow[k])));
+				}
+			}
+		}
+	}
+};
+}  // namespace
+
+TEST(StabilizerLocked, OlderSixDofWeldSliderAndBallHoldWithTheDefaults)
+{
+	// btGeneric6DofConstraint and btGeneric6DofSpringConstraint lock an axis as btGeneric6DofSpring2Constraint does (low
+	// == high) and measure a locked linear axis the same way (frame A's axes), so with the defaults a weld and a slider
+	// are locked constraints and a ball a point constraint, as the newer class's are; none is skipped as unexpressible
+	// (the weld was, before). Bullet's own measure of each 6-dof's error is the reference.
+	OldDofChain bare, held;
+	btQuaternionHingeStabilizer stabilizer;  // the defaults
+	held.scene.addAction(&stabilizer);
+	double bareHinge, bareDistance, bareAngle, hinge, distance, angle;
+	bare.run(bareHinge, bareDistance, bareAngle);
+	held.run(hinge, distance, angle);
+	std::printf(
+		"[ figures  ] older 6-dofs (weld, slider, ball), largest error over 2 s: stabilized %.2e m %.2e rad (hinge "
+		"%.2e m); bare %.2e m %.2e rad (hinge %.2e m)\n",
+		distance, angle, hinge, bareDistance, bareAngle, bareHinge);
+	const btQuaternionHingeStabilizerStats& stats = stabilizer.getLastStats();
+	EXPECT_EQ(stats.skippedUnexpressible, 0);
+	EXPECT_EQ(stats.skippedByOption, 0);
+	EXPECT_EQ(stats.lockedConstraints, 2);  // the weld and the slider
+	EXPECT_EQ(stats.pointConstraints, 1);   // the ball
+	EXPECT_EQ(stats.joints, 4);
+	EXPECT_EQ(stats.islands, 1);
+	EXPECT_LE(distance, kSeparationTolerance);
+	EXPECT_LE(angle, 10 * kSeparationTolerance);  // rad, as above
+	EXPECT_LE(hinge, kSeparationTolerance);
+	EXPECT_GT(bareDistance, 100 * kSeparationTolerance);  // Bullet's solver alone leaves them apart
+	EXPECT_EQ(stats.numericalIssues, 0);
+	ASSERT_TRUE(held.scene.allFinite());
+}
+
 TEST(StabilizerLocked, ProjectionLeavesTheSlidersFreeAxisAndTheMomentumAlone)
 {
 	// Two boxes on a slider (x free), no gravity, put 3 cm and 0.1 rad off it and moving apart along x at 1 m/s and

@@ -399,12 +399,13 @@ TEST(StabilizerStock, FilterAndStatsSeeEveryKind)
 	EXPECT_EQ(stabilizer.getLastStats().filteredJoints, 1);
 	EXPECT_EQ(stabilizer.getLastStats().joints, 4);
 	stabilizer.setFilter(nullptr);
-	settings.projectDofHinges = false;  // the 6-dofs: not seen (neither hinges nor, set up as hinges, points)
+	settings.projectDofHinges = false;  // the 6-dofs set up as hinges: no longer hinges here
 	stabilizer.setSettings(settings);
 	chain.scene.world().stepSimulation(kTimeStep, 0);
 	EXPECT_EQ(stabilizer.getLastStats().dofHinges, 0);
-	// the 6dof2 hinge is a point constraint then (projectPointConstraints takes btGeneric6DofSpring2Constraint only)
-	EXPECT_EQ(stabilizer.getLastStats().pointConstraints, 2);
+	// the two 6-dof hinges (btGeneric6DofSpring2Constraint and btGeneric6DofConstraint, their linear axes locked) are
+	// point constraints then, as the ball
+	EXPECT_EQ(stabilizer.getLastStats().pointConstraints, 3);
 	EXPECT_EQ(stabilizer.getLastStats().stockHinges, 1);
 	chain.scene.world().removeAction(&stabilizer);
 }

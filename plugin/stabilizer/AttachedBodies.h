@@ -9,10 +9,10 @@
 // Closing (settings.closeAttachedConstraints): a body attached by exactly one constraint of a form known here is then
 // put on that constraint, the host held fixed (a light finger on a heavy hand: the host takes none of the correction):
 //   - a point (btPoint2PointConstraint, the pivot of a btConeTwistConstraint that is not angular-only, a
-//     btGeneric6DofSpring2Constraint or btFixedConstraint with its three linear axes locked): the body is moved along
+//     6-dof (PointRows.h's DofLocks) or btFixedConstraint with its three linear axes locked): the body is moved along
 //     so the pivots meet (the locked offset, for the 6-dof), and the impulse at its pivot that takes the pivots'
 //     relative velocity out is applied to it alone (its 3×3 effective mass: M-metric, so it takes energy out, never in);
-//   - a slider or weld (btGeneric6DofSpring2Constraint or btFixedConstraint with its three angular axes locked at 0):
+//   - a slider or weld (a 6-dof or btFixedConstraint with its three angular axes locked at 0):
 //     the body is turned to the host's frame and moved along its locked linear axes to their locked values (free and
 //     limited axes keep their offset), its spin set to the host's and its velocity along the locked axes to the host's
 //     point's.

@@ -1,7 +1,7 @@
 // The point rows of Bullet's own point constraints (btQuaternionHingeStabilizerSettings::projectPointConstraints):
 // btPoint2PointConstraint, the pivot of btConeTwistConstraint (not angular-only; its swing and twist limits are not
-// projected) and of a btGeneric6DofSpring2Constraint whose three linear axes are locked (a ball or hinge built from a
-// 6-dof: its pivot is frame B's origin and frame A's origin moved by the locked values along frame A's axes, a point
+// projected) and of a 6-dof (btGeneric6DofSpring2Constraint, btGeneric6DofConstraint, btGeneric6DofSpringConstraint)
+// whose three linear axes are locked (a ball or hinge built from a 6-dof: its pivot is frame B's origin and frame A's origin moved by the locked values along frame A's axes, a point
 // of body A; its angles, free, limited or partly locked, are not projected). C = p_B − p_A, the world pivots, and J
 // the same point rows as a quaternion hinge's (btQuaternionHingeConstraint::computePositionRows, MATH.md Q13; both
 // from plugin/src/WorldPointRows.h). A 6-dof with its angles locked at 0 as well (a weld, btFixedConstraint) is not a
@@ -10,6 +10,7 @@
 #define QUATHINGE_STABILIZER_POINT_ROWS_H
 
 #include "BulletDynamics/ConstraintSolver/btConeTwistConstraint.h"
+#include "BulletDynamics/ConstraintSolver/btGeneric6DofConstraint.h"
 #include "BulletDynamics/ConstraintSolver/btGeneric6DofSpring2Constraint.h"
 #include "BulletDynamics/ConstraintSolver/btPoint2PointConstraint.h"
 #include "LinearMath/btTransform.h"
@@ -19,10 +20,13 @@ namespace quathinge
 {
 namespace stabilizer
 {
-/// A btGeneric6DofSpring2Constraint (btFixedConstraint is one, Bullet 2.83 on) as its limits lock it now.
+/// A 6-dof as its limits lock it now: btGeneric6DofSpring2Constraint (btFixedConstraint is one, Bullet 2.83 on), and
+/// btGeneric6DofConstraint and its btGeneric6DofSpringConstraint. Both measure a locked linear axis i as frame A's
+/// axis i · (p_B − p_A) (calculateLinearInfo, whichever frame the older one's rows are built along) and lock an angle
+/// with low == high, so a weld, a slider or a ball means the same in either.
 struct DofLocks
 {
-	bool isDof = false;                      // the constraint is a btGeneric6DofSpring2Constraint
+	bool isDof = false;                      // the constraint is one of those 6-dofs
 	bool linear[3] = {false, false, false};  // linear axis i locked: low == high (Bullet's convention), at offset[i]
 	btVector3 offset{0, 0, 0};               // the locked values along frame A's axes (m)
 	bool allLinear = false;                  // all three linear axes locked
@@ -30,13 +34,13 @@ struct DofLocks
 	btTransform frameA, frameB;              // in A's and B's centre-of-mass frames
 };
 
-// Bullet's own type numbers name Bullet's own classes (its serializer and debug drawer cast on them the same way).
-inline DofLocks dofLocks(const btTypedConstraint& c)
+namespace detail
+{
+// (Bullet's getters of btGeneric6DofSpring2Constraint's limits are not const; btGeneric6DofConstraint's are)
+template <class Dof>
+DofLocks readDofLocks(Dof& dof)
 {
 	DofLocks k;
-	if (c.getConstraintType() != D6_SPRING_2_CONSTRAINT_TYPE && c.getConstraintType() != FIXED_CONSTRAINT_TYPE) return k;
-	// (Bullet's getters of the limits are not const)
-	auto& dof = const_cast<btGeneric6DofSpring2Constraint&>(static_cast<const btGeneric6DofSpring2Constraint&>(c));
 	btVector3 linearLow, linearHigh, angularLow, angularHigh;
 	dof.getLinearLowerLimit(linearLow);
 	dof.getLinearUpperLimit(linearHigh);
@@ -54,6 +58,24 @@ inline DofLocks dofLocks(const btTypedConstraint& c)
 		k.anglesLockedAtZero = k.anglesLockedAtZero && angularLow[i] == 0 && angularHigh[i] == 0;
 	}
 	return k;
+}
+}  // namespace detail
+
+// Bullet's own type numbers name Bullet's own classes (its serializer and debug drawer cast on them the same way).
+inline DofLocks dofLocks(const btTypedConstraint& c)
+{
+	switch (c.getConstraintType())
+	{
+		case D6_SPRING_2_CONSTRAINT_TYPE:
+		case FIXED_CONSTRAINT_TYPE:
+			return detail::readDofLocks(
+				const_cast<btGeneric6DofSpring2Constraint&>(static_cast<const btGeneric6DofSpring2Constraint&>(c)));
+		case D6_CONSTRAINT_TYPE:
+		case D6_SPRING_CONSTRAINT_TYPE:
+			return detail::readDofLocks(static_cast<const btGeneric6DofConstraint&>(c));
+		default:
+			return DofLocks();
+	}
 }
 
 /// A point constraint the projection takes; `locks`: dofLocks(c), which each caller reads for its own use too.

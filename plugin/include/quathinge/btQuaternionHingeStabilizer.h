@@ -78,15 +78,16 @@ struct btQuaternionHingeStabilizerSettings
 	bool projectDofHinges = true;
 	/// Also project the pivots of Bullet's point constraints, btPoint2PointConstraint, btConeTwistConstraint (its
 	/// three point rows, unless angular-only; a cone twist's swing and twist limits are not projected) and
-	/// btGeneric6DofSpring2Constraint with its three linear axes locked (low == high; a ball built from a 6-dof, or a hinge
+	/// a 6-dof (btGeneric6DofSpring2Constraint, btGeneric6DofConstraint, btGeneric6DofSpringConstraint) with its three
+	/// linear axes locked (low == high; a ball built from a 6-dof, or a hinge
 	/// when projectDofHinges is off, its pivot moved by the locked values; its angles are not projected, and one with its angles locked at 0
 	/// too, a weld or btFixedConstraint, is not taken), in the same islands as the quaternion hinges: a ragdoll of
 	/// hinges and cone twists then holds together at every joint. They go through the filter as well. On by default;
 	/// off: not seen (getLastStats().skippedByOption counts them).
 	bool projectPointConstraints = true;
-	/// Also project the 6-dofs whose three angles are locked at 0 — a slider (btGeneric6DofSpring2Constraint with one
-	/// or two linear axes free or limited: a URDF prismatic joint as pybullet builds it) or a weld (all six locked;
-	/// btFixedConstraint) — as rows of the same islands: one per locked linear axis along frame A's axes and three for
+	/// Also project the 6-dofs whose three angles are locked at 0 — a slider (btGeneric6DofSpring2Constraint,
+	/// btGeneric6DofConstraint or btGeneric6DofSpringConstraint with one or two linear axes free or limited: a URDF
+	/// prismatic joint as pybullet builds it) or a weld (all six locked; btFixedConstraint) — as rows of the same islands: one per locked linear axis along frame A's axes and three for
 	/// the relative rotation (docs/MATH.md, "Locked 6-dofs"); a free axis's limits and motors are Bullet's alone. A
 	/// gripper's fingers on their slides then hold with the arm (Bullet's Panda in float: 7.8e-7 m off their slide
 	/// lines, against 1.1e-2 m without the stabilizer and 5.3e-2 m with it and this off), and a slider inside a chain
