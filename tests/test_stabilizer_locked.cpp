@@ -374,6 +374,116 @@ TEST(StabilizerLocked, OlderSixDofWeldSliderAndBallHoldWithTheDefaults)
 	ASSERT_TRUE(held.scene.allFinite());
 }
 
+TEST(StabilizerLocked, SliderConstraintLocksMeanWhatBulletMeasures)
+{
+	// A btSliderConstraint with its turn locked at 0 (Bullet's default) is projected as a 6-dof slider: its rows' C
+	// against the slider's own measure at the same transforms (calculateTransforms, testLinLimits, testAngLimits):
+	// the slide, where locked, is getLinearPos less the locked value (measured from B's origin to A's without
+	// useLinearReferenceFrameA, so with the other sign), B's origin off the slide line is 0 in Bullet's calculated
+	// frame A, and the turn about the axis is getAngularPos to first order. Seeded random frames and poses within
+	// 0.01 rad and 1 cm of the lock.
+	std::mt19937 rng(13);
+	std::uniform_real_distribution<double> u(-1, 1);
+	auto vec = [&](double s) { return btVector3(btScalar(s * u(rng)), btScalar(s * u(rng)), btScalar(s * u(rng))); };
+	btBoxShape shape(btVector3(btScalar(0.2), btScalar(0.1), btScalar(0.1)));
+	btRigidBody a(1, nullptr, &shape), b(1, nullptr, &shape);
+	const double linearTolerance = kDouble ? 1e-12 : 2e-6;  // m, as above
+	for (int n = 0; n < 100; ++n)
+	{
+		const btTransform fa(randomUnit(rng), vec(0.3)), fb(randomUnit(rng), vec(0.3));
+		const bool referenceA = n % 2 == 0, slideLocked = n % 4 < 2;
+		std::unique_ptr<btSliderConstraint> c(new btSliderConstraint(a, b, fa, fb, referenceA));
+		const btScalar lock = btScalar(0.1 * u(rng));
+		if (slideLocked)
+		{
+			c->setLowerLinLimit(lock);
+			c->setUpperLinLimit(lock);
+		}
+		const quathinge::stabilizer::DofLocks locks = quathinge::stabilizer::dofLocks(*c);
+		ASSERT_TRUE(quathinge::stabilizer::hasLockedRows(locks));
+		const btTransform tA(randomUnit(rng), vec(2));
+		const btTransform frameAWorld = tA * fa;
+		const btVector3 turn = vec(0.01 / std::sqrt(3.0));
+		const btScalar along = slideLocked ? (referenceA ? lock : -lock) : btScalar(0.2 * u(rng));
+		const btTransform frameBWorld(expRotation(turn) * frameAWorld.getRotation(),
+									  frameAWorld * btVector3(along, 0, 0) + vec(0.01));
+		const btTransform tB = frameBWorld * fb.inverse();
+		btScalar C[6], J[72];
+		const int rows = quathinge::stabilizer::lockedPositionRows(*c, tA, tB, C, J);
+		ASSERT_EQ(rows, slideLocked ? 6 : 5);
+		c->calculateTransforms(tA, tB);
+		c->testLinLimits();
+		c->testAngLimits();
+		int r = 0;
+		if (slideLocked)
+		{
+			EXPECT_NEAR(double(C[r]), (referenceA ? 1 : -1) * double(c->getLinearPos() - lock), linearTolerance)
+				<< "configuration " << n;
+			++r;
+		}
+		const btTransform& ca = c->getCalculatedTransformA();
+		const btVector3 d = c->getCalculatedTransformB().getOrigin() - ca.getOrigin();
+		for (int i = 1; i < 3; ++i, ++r)
+			EXPECT_NEAR(double(C[r]), double(d.dot(ca.getBasis().getColumn(i))), linearTolerance)
+				<< "configuration " << n << ", axis " << i;
+		const double turned = double(turn.length());
+		EXPECT_NEAR(double(C[r]), double(c->getAngularPos()), turned * turned + (kDouble ? 1e-12 : 1e-6))
+			<< "configuration " << n;
+	}
+}
+
+TEST(StabilizerLocked, SliderConstraintHoldsWithTheDefaults)
+{
+	// The 4-link chain above with a btSliderConstraint (Bullet's default: the turn locked at 0; the slide within ±0.2
+	// m) in place of the weld: held with the defaults, not skipped; its error as Bullet's slider measures it (B's
+	// origin off the slide line and the turn about it, getAngularPos; the two frames' x axes apart).
+	auto build = [](OldDofChain& chain) {
+		chain.scene.world().removeConstraint(chain.weld);
+		btTransform fa = btTransform::getIdentity(), fb = btTransform::getIdentity();
+		fa.setOrigin(btVector3(kLink / 2, 0, 0));
+		fb.setOrigin(btVector3(-kLink / 2, 0, 0));
+		auto* s = new btSliderConstraint(chain.weld->getRigidBodyA(), chain.weld->getRigidBodyB(), fa, fb, true);
+		s->setLowerLinLimit(btScalar(-0.2));
+		s->setUpperLinLimit(btScalar(0.2));
+		chain.scene.addConstraint(s);
+		return s;
+	};
+	OldDofChain bare, held;
+	btSliderConstraint* bareSlider = build(bare);
+	btSliderConstraint* heldSlider = build(held);
+	btQuaternionHingeStabilizer stabilizer;  // the defaults
+	held.scene.addAction(&stabilizer);
+	auto sliderError = [](btSliderConstraint& s, double& off, double& angle) {
+		s.calculateTransforms(s.getRigidBodyA().getCenterOfMassTransform(), s.getRigidBodyB().getCenterOfMassTransform());
+		s.testAngLimits();
+		const btTransform& ca = s.getCalculatedTransformA();
+		const btVector3 d = s.getCalculatedTransformB().getOrigin() - ca.getOrigin();
+		const btVector3 xA = ca.getBasis().getColumn(0), xB = s.getCalculatedTransformB().getBasis().getColumn(0);
+		off = std::max(off, double((d - xA * d.dot(xA)).length()));
+		angle = std::max(angle, std::max(std::fabs(double(s.getAngularPos())), double(xA.cross(xB).length())));
+	};
+	double bareOff = 0, bareAngle = 0, off = 0, angle = 0;
+	for (int i = 0; i < 120; ++i)
+	{
+		bare.scene.world().stepSimulation(kTimeStep, 0);
+		held.scene.world().stepSimulation(kTimeStep, 0);
+		sliderError(*bareSlider, bareOff, bareAngle);
+		sliderError(*heldSlider, off, angle);
+	}
+	std::printf(
+		"[ figures  ] btSliderConstraint in the chain, largest error over 2 s: stabilized %.2e m %.2e rad; bare "
+		"%.2e m %.2e rad\n",
+		off, angle, bareOff, bareAngle);
+	const btQuaternionHingeStabilizerStats& stats = stabilizer.getLastStats();
+	EXPECT_EQ(stats.skippedUnexpressible, 0);
+	EXPECT_EQ(stats.lockedConstraints, 2);  // the two sliders
+	EXPECT_EQ(stats.joints, 4);
+	EXPECT_LE(off, kSeparationTolerance);
+	EXPECT_LE(angle, 10 * kSeparationTolerance);  // rad, as above
+	EXPECT_GT(bareOff + bareAngle, 100 * kSeparationTolerance);
+	ASSERT_TRUE(held.scene.allFinite());
+}
+
 TEST(StabilizerLocked, ProjectionLeavesTheSlidersFreeAxisAndTheMomentumAlone)
 {
 	// Two boxes on a slider (x free), no gravity, put 3 cm and 0.1 rad off it and moving apart along x at 1 m/s and

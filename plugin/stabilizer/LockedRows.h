@@ -1,7 +1,8 @@
 // The rows of a 6-dof whose three angles are locked at 0 (btQuaternionHingeStabilizerSettings::
 // projectLockedConstraints): a slider (a btGeneric6DofSpring2Constraint, btGeneric6DofConstraint or
 // btGeneric6DofSpringConstraint with one or two linear axes free, as pybullet and the URDF scenes build a prismatic
-// joint) or a weld (all six locked; btFixedConstraint). Both 6-dof families mean the same by a lock (PointRows.h). docs/MATH.md, "Locked
+// joint; a btSliderConstraint with its turn locked at 0, Bullet's default) or a weld (all six locked;
+// btFixedConstraint). Both 6-dof families and the slider mean the same by a lock (PointRows.h). docs/MATH.md, "Locked
 // 6-dofs in the projection".
 //
 // With frame A's axes e_i (world, R_FA's columns), its pivot p_A, frame B's pivot p_B, d = p_B − p_A and the locked

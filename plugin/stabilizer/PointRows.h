@@ -13,6 +13,7 @@
 #include "BulletDynamics/ConstraintSolver/btGeneric6DofConstraint.h"
 #include "BulletDynamics/ConstraintSolver/btGeneric6DofSpring2Constraint.h"
 #include "BulletDynamics/ConstraintSolver/btPoint2PointConstraint.h"
+#include "BulletDynamics/ConstraintSolver/btSliderConstraint.h"
 #include "LinearMath/btTransform.h"
 #include "WorldPointRows.h"
 
@@ -23,10 +24,11 @@ namespace stabilizer
 /// A 6-dof as its limits lock it now: btGeneric6DofSpring2Constraint (btFixedConstraint is one, Bullet 2.83 on), and
 /// btGeneric6DofConstraint and its btGeneric6DofSpringConstraint. Both measure a locked linear axis i as frame A's
 /// axis i · (p_B − p_A) (calculateLinearInfo, whichever frame the older one's rows are built along) and lock an angle
-/// with low == high, so a weld, a slider or a ball means the same in either.
+/// with low == high, so a weld, a slider or a ball means the same in either. A btSliderConstraint reads as the 6-dof
+/// slider it is (sliderLocks).
 struct DofLocks
 {
-	bool isDof = false;                      // the constraint is one of those 6-dofs
+	bool isDof = false;                      // the constraint is one of those 6-dofs, or a btSliderConstraint
 	bool linear[3] = {false, false, false};  // linear axis i locked: low == high (Bullet's convention), at offset[i]
 	btVector3 offset{0, 0, 0};               // the locked values along frame A's axes (m)
 	bool allLinear = false;                  // all three linear axes locked
@@ -59,6 +61,25 @@ DofLocks readDofLocks(Dof& dof)
 	}
 	return k;
 }
+
+// A btSliderConstraint as the same locks: it slides along frame A's x and always holds B's frame origin on that line
+// (calculateTransforms: its depths along frame A's axes, y and z held at 0) and the two frames' x axes together; the
+// turn about x is locked where its angular limits are equal, the slide where its linear ones are (testLinLimits;
+// without useLinearReferenceFrameA it measures the slide from B's origin to A's, so that value's sign turns). Bullet's
+// default slider locks the turn at 0: a 6-dof slider.
+inline DofLocks sliderLocks(btSliderConstraint& slider)
+{
+	DofLocks k;
+	k.isDof = true;
+	k.frameA = slider.getFrameOffsetA();
+	k.frameB = slider.getFrameOffsetB();
+	k.linear[1] = k.linear[2] = true;
+	k.linear[0] = slider.getLowerLinLimit() == slider.getUpperLinLimit();
+	if (k.linear[0]) k.offset[0] = slider.getUseLinearReferenceFrameA() ? slider.getLowerLinLimit() : -slider.getLowerLinLimit();
+	k.allLinear = k.linear[0];
+	k.anglesLockedAtZero = slider.getLowerAngLimit() == 0 && slider.getUpperAngLimit() == 0;
+	return k;
+}
 }  // namespace detail
 
 // Bullet's own type numbers name Bullet's own classes (its serializer and debug drawer cast on them the same way).
@@ -73,6 +94,8 @@ inline DofLocks dofLocks(const btTypedConstraint& c)
 		case D6_CONSTRAINT_TYPE:
 		case D6_SPRING_CONSTRAINT_TYPE:
 			return detail::readDofLocks(static_cast<const btGeneric6DofConstraint&>(c));
+		case SLIDER_CONSTRAINT_TYPE:
+			return detail::sliderLocks(const_cast<btSliderConstraint&>(static_cast<const btSliderConstraint&>(c)));
 		default:
 			return DofLocks();
 	}

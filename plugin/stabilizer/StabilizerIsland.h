@@ -100,7 +100,7 @@ struct ScanKinds
 /// StockHingeRows.h) with a movable body that `filter` (if any) keeps, in constraint order, to out (cleared first);
 /// of the enabled constraints with a movable body it leaves out, it counts (in `skipped`) those the filter left out, those
 /// of a kind whose option is off, those of Bullet's joint types in a form it cannot express (a 6-dof with a limited or
-/// free angle and a free linear axis, a btSliderConstraint), faulted quaternion hinges,
+/// free angle and a free linear axis, a btSliderConstraint free to turn about its axis), faulted quaternion hinges,
 /// and constraints of other types (gears, custom constraints): none is skipped uncounted.
 /// fills `skipped` with the joints it did not take and why (btQuaternionHingeStabilizerStats::filteredJoints, skipped*).
 struct ScanSkips

@@ -87,7 +87,7 @@ struct btQuaternionHingeStabilizerSettings
 	bool projectPointConstraints = true;
 	/// Also project the 6-dofs whose three angles are locked at 0 — a slider (btGeneric6DofSpring2Constraint,
 	/// btGeneric6DofConstraint or btGeneric6DofSpringConstraint with one or two linear axes free or limited: a URDF
-	/// prismatic joint as pybullet builds it) or a weld (all six locked; btFixedConstraint) — as rows of the same islands: one per locked linear axis along frame A's axes and three for
+	/// prismatic joint as pybullet builds it; a btSliderConstraint with its turn locked at 0, as Bullet makes it) or a weld (all six locked; btFixedConstraint) — as rows of the same islands: one per locked linear axis along frame A's axes and three for
 	/// the relative rotation (docs/MATH.md, "Locked 6-dofs"); a free axis's limits and motors are Bullet's alone. A
 	/// gripper's fingers on their slides then hold with the arm (Bullet's Panda in float: 7.8e-7 m off their slide
 	/// lines, against 1.1e-2 m without the stabilizer and 5.3e-2 m with it and this off), and a slider inside a chain
@@ -193,7 +193,7 @@ struct btQuaternionHingeStabilizerStats
 	int lockedConstraints = 0;            ///< … locked 6-dofs (projectLockedConstraints)
 	int filteredJoints = 0;               ///< joints the filter left out (setFilter): not projected, not counted above
 	int skippedByOption = 0;              ///< joints of a kind the stabilizer projects whose option is off (project*)
-	int skippedUnexpressible = 0;         ///< Bullet joints in a form it cannot express (e.g. a btSliderConstraint, a 6-dof with free angles and linear axes)
+	int skippedUnexpressible = 0;         ///< Bullet joints in a form it cannot express (e.g. a btSliderConstraint free to turn about its axis, a 6-dof with free angles and linear axes)
 	int skippedFaulted = 0;               ///< faulted quaternion hinges (getFault), re-enabled without clearFault
 	int otherConstraints = 0;             ///< constraints of other types (gears, custom btTypedConstraints): never projected
 	int bodies = 0;                       ///< movable bodies in those islands
