@@ -74,6 +74,34 @@ btQuaternion randomUnit(std::mt19937& rng)
 	std::normal_distribution<double> n(0, 1);
 	return btQuaternion(btScalar(n(rng)), btScalar(n(rng)), btScalar(n(rng)), btScalar(n(rng))).normalized();
 }
+
+// A 6-dof of either family locked as a slider or weld: linear axis i at lock[i] where bit i of `pattern` is set, else
+// free; the angles at 0.
+template <class Dof>
+void lockAxes(Dof& c, const btVector3& lock, int pattern)
+{
+	btVector3 low(1, 1, 1), high(-1, -1, -1);
+	for (int i = 0; i < 3; ++i)
+		if (pattern & (1 << i)) low[i] = high[i] = lock[i];
+	c.setLinearLowerLimit(low);
+	c.setLinearUpperLimit(high);
+	c.setAngularLowerLimit(btVector3(0, 0, 0));
+	c.setAngularUpperLimit(btVector3(0, 0, 0));
+}
+
+// Seeded random numbers, vectors and orientations, and two boxes for a constraint to join (the tests of C and J at
+// given transforms: the bodies' own poses are not read).
+struct RandomPoses
+{
+	std::mt19937 rng;
+	std::uniform_real_distribution<double> u{-1, 1};
+	btBoxShape shape{btVector3(btScalar(0.2), btScalar(0.1), btScalar(0.1))};
+	btRigidBody a{1, nullptr, &shape}, b{1, nullptr, &shape};
+	explicit RandomPoses(unsigned seed) : rng(seed) {}
+	double number() { return u(rng); }
+	btVector3 vec(double s) { return btVector3(btScalar(s * u(rng)), btScalar(s * u(rng)), btScalar(s * u(rng))); }
+	btQuaternion unit() { return randomUnit(rng); }
+};
 }  // namespace
 
 TEST(StabilizerLocked, RowsAreTheDerivativeOfC)
@@ -81,32 +109,22 @@ TEST(StabilizerLocked, RowsAreTheDerivativeOfC)
 	// Central differences of C under small translations and rotations of either body against J's columns, over seeded
 	// random bodies, frames and locks: near the locked pose and up to 2 rad off it (support/RowDerivatives.h: the step
 	// and the tolerance).
-	std::mt19937 rng(7);
-	std::uniform_real_distribution<double> u(-1, 1);
-	auto vec = [&](double s) { return btVector3(btScalar(s * u(rng)), btScalar(s * u(rng)), btScalar(s * u(rng))); };
-	btBoxShape shape(btVector3(btScalar(0.2), btScalar(0.1), btScalar(0.1)));
-	btRigidBody a(1, nullptr, &shape), b(1, nullptr, &shape);
+	RandomPoses p(7);
 	int checked = 0;
 	for (int n = 0; n < 200; ++n)
 	{
-		const btTransform fa(randomUnit(rng), vec(0.3)), fb(randomUnit(rng), vec(0.3));
-		std::unique_ptr<btGeneric6DofSpring2Constraint> c(new btGeneric6DofSpring2Constraint(a, b, fa, fb));
-		const btVector3 lock = vec(0.1);
+		const btTransform fa(p.unit(), p.vec(0.3)), fb(p.unit(), p.vec(0.3));
+		std::unique_ptr<btGeneric6DofSpring2Constraint> c(new btGeneric6DofSpring2Constraint(p.a, p.b, fa, fb));
+		const btVector3 lock = p.vec(0.1);
 		const int pattern = n % 8;  // which linear axes are locked
-		btVector3 low(1, 1, 1), high(-1, -1, -1);
-		for (int i = 0; i < 3; ++i)
-			if (pattern & (1 << i)) low[i] = high[i] = lock[i];
-		c->setLinearLowerLimit(low);
-		c->setLinearUpperLimit(high);
-		c->setAngularLowerLimit(btVector3(0, 0, 0));
-		c->setAngularUpperLimit(btVector3(0, 0, 0));
+		lockAxes(*c, lock, pattern);
 		ASSERT_TRUE(quathinge::stabilizer::hasLockedRows(quathinge::stabilizer::dofLocks(*c)));
 		// B placed so its frame is within 0.3 rad of A's (near) or anywhere up to 2 rad (far), 0.2 m off
-		const btTransform tA(randomUnit(rng), vec(2));
+		const btTransform tA(p.unit(), p.vec(2));
 		const double reach = n % 2 ? 0.3 : 2.0;
-		const btQuaternion turn = expRotation(vec(reach / std::sqrt(3.0)));
+		const btQuaternion turn = expRotation(p.vec(reach / std::sqrt(3.0)));
 		const btTransform frameAWorld = tA * fa;
-		const btTransform frameBWorld(turn * frameAWorld.getRotation(), frameAWorld.getOrigin() + vec(0.2));
+		const btTransform frameBWorld(turn * frameAWorld.getRotation(), frameAWorld.getOrigin() + p.vec(0.2));
 		const btTransform tB = frameBWorld * fb.inverse();
 		btScalar C[6], J[72];
 		const int rows = quathinge::stabilizer::lockedPositionRows(*c, tA, tB, C, J);
@@ -218,35 +236,25 @@ TEST(StabilizerLocked, OlderSixDofLocksMeanWhatBulletMeasures)
 	// square of the turn near the lock, with the opposite sign (the older 6-dof reads its relative rotation's elements
 	// transposed, btGetMatrixElem: B turned by +θ about frame A's x reads −θ; only the locks at 0 are taken, which mean
 	// the same either way). Seeded random frames, locks and poses within 0.01 rad and 1 cm of the lock.
-	std::mt19937 rng(11);
-	std::uniform_real_distribution<double> u(-1, 1);
-	auto vec = [&](double s) { return btVector3(btScalar(s * u(rng)), btScalar(s * u(rng)), btScalar(s * u(rng))); };
-	btBoxShape shape(btVector3(btScalar(0.2), btScalar(0.1), btScalar(0.1)));
-	btRigidBody a(1, nullptr, &shape), b(1, nullptr, &shape);
+	RandomPoses p(11);
 	const double linearTolerance = kDouble ? 1e-12 : 2e-6;  // m: rounding of coordinates up to a few metres
 	for (int n = 0; n < 100; ++n)
 	{
-		const btTransform fa(randomUnit(rng), vec(0.3)), fb(randomUnit(rng), vec(0.3));
-		std::unique_ptr<btGeneric6DofConstraint> c(new btGeneric6DofConstraint(a, b, fa, fb, n % 2 == 0));
-		const btVector3 lock = vec(0.1);
+		const btTransform fa(p.unit(), p.vec(0.3)), fb(p.unit(), p.vec(0.3));
+		std::unique_ptr<btGeneric6DofConstraint> c(new btGeneric6DofConstraint(p.a, p.b, fa, fb, n % 2 == 0));
+		const btVector3 lock = p.vec(0.1);
 		const int pattern = n % 8;  // which linear axes are locked
-		btVector3 low(1, 1, 1), high(-1, -1, -1);
-		for (int i = 0; i < 3; ++i)
-			if (pattern & (1 << i)) low[i] = high[i] = lock[i];
-		c->setLinearLowerLimit(low);
-		c->setLinearUpperLimit(high);
-		c->setAngularLowerLimit(btVector3(0, 0, 0));
-		c->setAngularUpperLimit(btVector3(0, 0, 0));
+		lockAxes(*c, lock, pattern);
 		const quathinge::stabilizer::DofLocks locks = quathinge::stabilizer::dofLocks(*c);
 		ASSERT_TRUE(quathinge::stabilizer::hasLockedRows(locks));
 		// B where the locks put it, then turned by up to 0.01 rad and moved by up to 1 cm
-		const btTransform tA(randomUnit(rng), vec(2));
+		const btTransform tA(p.unit(), p.vec(2));
 		const btTransform frameAWorld = tA * fa;
-		const btVector3 turn = vec(0.01 / std::sqrt(3.0));
+		const btVector3 turn = p.vec(0.01 / std::sqrt(3.0));
 		const btTransform frameBWorld(expRotation(turn) * frameAWorld.getRotation(),
 									  frameAWorld * btVector3(lock.x() * (pattern & 1), lock.y() * ((pattern >> 1) & 1),
 															  lock.z() * ((pattern >> 2) & 1)) +
-										  vec(0.01));
+										  p.vec(0.01));
 		const btTransform tB = frameBWorld * fb.inverse();
 		btScalar C[6], J[72];
 		const int rows = quathinge::stabilizer::lockedPositionRows(*c, tA, tB, C, J);
@@ -382,18 +390,14 @@ TEST(StabilizerLocked, SliderConstraintLocksMeanWhatBulletMeasures)
 	// useLinearReferenceFrameA, so with the other sign), B's origin off the slide line is 0 in Bullet's calculated
 	// frame A, and the turn about the axis is getAngularPos to first order. Seeded random frames and poses within
 	// 0.01 rad and 1 cm of the lock.
-	std::mt19937 rng(13);
-	std::uniform_real_distribution<double> u(-1, 1);
-	auto vec = [&](double s) { return btVector3(btScalar(s * u(rng)), btScalar(s * u(rng)), btScalar(s * u(rng))); };
-	btBoxShape shape(btVector3(btScalar(0.2), btScalar(0.1), btScalar(0.1)));
-	btRigidBody a(1, nullptr, &shape), b(1, nullptr, &shape);
+	RandomPoses p(13);
 	const double linearTolerance = kDouble ? 1e-12 : 2e-6;  // m, as above
 	for (int n = 0; n < 100; ++n)
 	{
-		const btTransform fa(randomUnit(rng), vec(0.3)), fb(randomUnit(rng), vec(0.3));
+		const btTransform fa(p.unit(), p.vec(0.3)), fb(p.unit(), p.vec(0.3));
 		const bool referenceA = n % 2 == 0, slideLocked = n % 4 < 2;
-		std::unique_ptr<btSliderConstraint> c(new btSliderConstraint(a, b, fa, fb, referenceA));
-		const btScalar lock = btScalar(0.1 * u(rng));
+		std::unique_ptr<btSliderConstraint> c(new btSliderConstraint(p.a, p.b, fa, fb, referenceA));
+		const btScalar lock = btScalar(0.1 * p.number());
 		if (slideLocked)
 		{
 			c->setLowerLinLimit(lock);
@@ -401,12 +405,12 @@ TEST(StabilizerLocked, SliderConstraintLocksMeanWhatBulletMeasures)
 		}
 		const quathinge::stabilizer::DofLocks locks = quathinge::stabilizer::dofLocks(*c);
 		ASSERT_TRUE(quathinge::stabilizer::hasLockedRows(locks));
-		const btTransform tA(randomUnit(rng), vec(2));
+		const btTransform tA(p.unit(), p.vec(2));
 		const btTransform frameAWorld = tA * fa;
-		const btVector3 turn = vec(0.01 / std::sqrt(3.0));
-		const btScalar along = slideLocked ? (referenceA ? lock : -lock) : btScalar(0.2 * u(rng));
+		const btVector3 turn = p.vec(0.01 / std::sqrt(3.0));
+		const btScalar along = slideLocked ? (referenceA ? lock : -lock) : btScalar(0.2 * p.number());
 		const btTransform frameBWorld(expRotation(turn) * frameAWorld.getRotation(),
-									  frameAWorld * btVector3(along, 0, 0) + vec(0.01));
+									  frameAWorld * btVector3(along, 0, 0) + p.vec(0.01));
 		const btTransform tB = frameBWorld * fb.inverse();
 		btScalar C[6], J[72];
 		const int rows = quathinge::stabilizer::lockedPositionRows(*c, tA, tB, C, J);
