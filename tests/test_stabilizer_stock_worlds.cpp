@@ -403,9 +403,12 @@ TEST(StabilizerStock, FilterAndStatsSeeEveryKind)
 	stabilizer.setSettings(settings);
 	chain.scene.world().stepSimulation(kTimeStep, 0);
 	EXPECT_EQ(stabilizer.getLastStats().dofHinges, 0);
-	// the two 6-dof hinges (btGeneric6DofSpring2Constraint and btGeneric6DofConstraint, their linear axes locked) are
-	// point constraints then, as the ball
-	EXPECT_EQ(stabilizer.getLastStats().pointConstraints, 3);
+	// the two 6-dof hinges are then held as 6-dofs: the btGeneric6DofConstraint whole by its locked rows (its linear
+	// axes and its two locked Euler angles), the btGeneric6DofSpring2Constraint, in rotation order ZYX, by its pivot as
+	// a point constraint (locked angles are rows only in Bullet's XYZ order), as the ball
+	EXPECT_EQ(stabilizer.getLastStats().lockedConstraints, 1);
+	EXPECT_EQ(stabilizer.getLastStats().pointConstraints, 2);
+	EXPECT_EQ(stabilizer.getLastStats().skippedUnexpressible, 0);
 	EXPECT_EQ(stabilizer.getLastStats().stockHinges, 1);
 	chain.scene.world().removeAction(&stabilizer);
 }

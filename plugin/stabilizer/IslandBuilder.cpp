@@ -106,8 +106,10 @@ void scanWorld(btDynamicsWorld& world, const ScanKinds& kinds, const btQuaternio
 		const bool frame = frameKind != FrameHingeKind::None;
 		// a 6-dof's locks, read once for both options (and not at all with both off)
 		const DofLocks locks = !hinge && !frame && (projectPoints || projectLocked) ? dofLocks(*c) : DofLocks();
-		const bool point = !hinge && !frame && projectPoints && hasPointRows(*c, locks);
-		const bool locked = !hinge && !frame && !point && projectLocked && hasLockedRows(locks);
+		// a 6-dof with some angle locked as well as its linear axes (a universal joint) is held whole by its locked
+		// rows where that option is on, else by its point rows
+		const bool locked = !hinge && !frame && projectLocked && hasLockedRows(locks);
+		const bool point = !hinge && !frame && !locked && projectPoints && hasPointRows(*c, locks);
 		if (!hinge && !frame && !point && !locked)
 		{
 			if (hasMovableBody(*c)) countSkip(*c, skipped);
@@ -146,7 +148,9 @@ void scanWorld(btDynamicsWorld& world, const ScanKinds& kinds, const btQuaternio
 		}
 		if (point || locked)
 		{
-			if (locked) e.flags |= lockedLinearAxes(locks) * SignatureEntry::kLockedAxis0;
+			if (locked)
+				e.flags |= lockedLinearAxes(locks) * SignatureEntry::kLockedAxis0 |
+						   lockedAngularAxes(locks) * SignatureEntry::kLockedAngle0;
 			out.push_back(e);
 			continue;
 		}
@@ -158,6 +162,15 @@ void scanWorld(btDynamicsWorld& world, const ScanKinds& kinds, const btQuaternio
 
 namespace
 {
+// A locked 6-dof's rows from its signature flags: one per locked linear axis and per angular row (LockedRows.h).
+int lockedRows(unsigned flags)
+{
+	int rows = 0;
+	for (int i = 0; i < 3; ++i)
+		rows += ((flags & (SignatureEntry::kLockedAxis0 << i)) ? 1 : 0) + ((flags & (SignatureEntry::kLockedAngle0 << i)) ? 1 : 0);
+	return rows;
+}
+
 int findRoot(Array<int>& parent, int x)
 {
 	while (parent[x] != x)
@@ -300,10 +313,9 @@ namespace
 // bodies, in scan order (buildIslands groups the scan).
 std::unique_ptr<Island> buildOne(const Array<SignatureEntry>& entries, bool forceSparse)
 {
-	// 6-row blocks if some joint of the island has a limit slot or six rows (a weld: three locked linear axes), else 5.
-	const unsigned allLinearLocked = 7 * SignatureEntry::kLockedAxis0;
+	// 6-row blocks if some joint of the island has a limit slot or six rows (a weld: every axis locked), else 5.
 	const bool hasLimitSlot = std::any_of(entries.begin(), entries.end(), [&](const SignatureEntry& e) {
-		return (e.flags & SignatureEntry::kLimitSlot) != 0 || (e.locked && (e.flags & allLinearLocked) == allLinearLocked);
+		return (e.flags & SignatureEntry::kLimitSlot) != 0 || (e.locked && lockedRows(e.flags) == 6);
 	});
 	std::unique_ptr<Island> islandPtr(hasLimitSlot ? static_cast<Island*>(new BlockIsland<6>)
 												   : static_cast<Island*>(new BlockIsland<5>));
@@ -351,7 +363,7 @@ std::unique_ptr<Island> buildOne(const Array<SignatureEntry>& entries, bool forc
 			slot.linearRows = 0;
 			for (int i = 0; i < 3; ++i)
 				if (e.flags & (SignatureEntry::kLockedAxis0 << i)) ++slot.linearRows;
-			slot.bilateralRows = slot.linearRows + 3;
+			slot.bilateralRows = lockedRows(e.flags);
 			island.generalLinear = true;
 		}
 		slot.limitSlot = (e.flags & SignatureEntry::kLimitSlot) != 0;

@@ -47,7 +47,8 @@ size_t inputSize(const Island& island)
 	size_t n = 1 + kPerBody * island.bodies.size();
 	for (const JointSlot& js : island.joints)
 		n += js.contact >= 0 ? kPerContactSlot
-							 : kPerJoint + (js.limitSlot ? 1 : 0) + kPerFixedSide * size_t((js.body[0] < 0) + (js.body[1] < 0));
+							 : kPerJoint + (js.limitSlot ? 1 : 0) + (js.locked ? 3 : 0) +
+								   kPerFixedSide * size_t((js.body[0] < 0) + (js.body[1] < 0));
 	return n;
 }
 
@@ -102,6 +103,7 @@ void gatherInputs(const Island& island, btScalar timeStep, Array<btScalar>& out)
 			g.add(k.frameA);
 			g.add(k.frameB);
 			g.add(k.offset);
+			g.add(k.angles);  // (3 more than the joint's share)
 			static_assert(kPerJoint == 12 + 12 + 3, "a locked 6-dof fills the joint's share");
 			continue;
 		}

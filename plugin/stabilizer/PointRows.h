@@ -1,8 +1,9 @@
 // The point rows of Bullet's own point constraints (btQuaternionHingeStabilizerSettings::projectPointConstraints):
 // btPoint2PointConstraint, the pivot of btConeTwistConstraint (not angular-only; its swing and twist limits are not
 // projected) and of a 6-dof (btGeneric6DofSpring2Constraint, btGeneric6DofConstraint, btGeneric6DofSpringConstraint)
-// whose three linear axes are locked (a ball or hinge built from a 6-dof: its pivot is frame B's origin and frame A's origin moved by the locked values along frame A's axes, a point
-// of body A; its angles, free, limited or partly locked, are not projected). C = p_B − p_A, the world pivots, and J
+// whose three linear axes are locked (a ball built from a 6-dof, or a hinge or universal joint when
+// projectDofHinges or projectLockedConstraints is off: its pivot is frame B's origin and frame A's origin moved by the
+// locked values along frame A's axes, a point of body A; its angles are not projected). C = p_B − p_A, the world pivots, and J
 // the same point rows as a quaternion hinge's (btQuaternionHingeConstraint::computePositionRows, MATH.md Q13; both
 // from plugin/src/WorldPointRows.h). A 6-dof with its angles locked at 0 as well (a weld, btFixedConstraint) is not a
 // point constraint here: its orientation matters as much (closeAttachedConstraints closes it whole, AttachedBodies.h).
@@ -28,16 +29,25 @@ namespace stabilizer
 /// slider it is (sliderLocks).
 struct DofLocks
 {
-	bool isDof = false;                      // the constraint is one of those 6-dofs, or a btSliderConstraint
-	bool linear[3] = {false, false, false};  // linear axis i locked: low == high (Bullet's convention), at offset[i]
-	btVector3 offset{0, 0, 0};               // the locked values along frame A's axes (m)
-	bool allLinear = false;                  // all three linear axes locked
-	bool anglesLockedAtZero = false;         // all three angles locked at 0
-	btTransform frameA, frameB;              // in A's and B's centre-of-mass frames
+	bool isDof = false;                       // the constraint is one of those 6-dofs, or a btSliderConstraint
+	bool linear[3] = {false, false, false};   // linear axis i locked: low == high (Bullet's convention), at offset[i]
+	btVector3 offset{0, 0, 0};                // the locked values along frame A's axes (m)
+	bool allLinear = false;                   // all three linear axes locked
+	bool angular[3] = {false, false, false};  // angle i locked (low == high) at angles[i]
+	btVector3 angles{0, 0, 0};                // the locked angles (rad), Bullet's Euler angles (getAngle; LockedRows.h)
+	bool anglesLockedAtZero = false;          // all three angles locked at 0
+	bool eulerXYZ = false;                    // its angles are Bullet's XYZ Euler angles (every 6-dof but a
+											  // btGeneric6DofSpring2Constraint in another rotation order)
+	btTransform frameA, frameB;               // in A's and B's centre-of-mass frames
+	bool anyAngle() const { return angular[0] || angular[1] || angular[2]; }
+	bool anyLinear() const { return linear[0] || linear[1] || linear[2]; }
 };
 
 namespace detail
 {
+inline bool eulerXYZ(const btGeneric6DofConstraint&) { return true; }
+inline bool eulerXYZ(btGeneric6DofSpring2Constraint& dof) { return dof.getRotationOrder() == RO_XYZ; }
+
 // (Bullet's getters of btGeneric6DofSpring2Constraint's limits are not const; btGeneric6DofConstraint's are)
 template <class Dof>
 DofLocks readDofLocks(Dof& dof)
@@ -49,6 +59,7 @@ DofLocks readDofLocks(Dof& dof)
 	dof.getAngularLowerLimit(angularLow);
 	dof.getAngularUpperLimit(angularHigh);
 	k.isDof = true;
+	k.eulerXYZ = eulerXYZ(dof);
 	k.frameA = dof.getFrameOffsetA();
 	k.frameB = dof.getFrameOffsetB();
 	k.allLinear = k.anglesLockedAtZero = true;
@@ -57,26 +68,35 @@ DofLocks readDofLocks(Dof& dof)
 		k.linear[i] = linearLow[i] == linearHigh[i];
 		if (k.linear[i]) k.offset[i] = linearLow[i];
 		k.allLinear = k.allLinear && k.linear[i];
+		k.angular[i] = angularLow[i] == angularHigh[i];
+		if (k.angular[i]) k.angles[i] = angularLow[i];
 		k.anglesLockedAtZero = k.anglesLockedAtZero && angularLow[i] == 0 && angularHigh[i] == 0;
 	}
 	return k;
 }
 
 // A btSliderConstraint as the same locks: it slides along frame A's x and always holds B's frame origin on that line
-// (calculateTransforms: its depths along frame A's axes, y and z held at 0) and the two frames' x axes together; the
-// turn about x is locked where its angular limits are equal, the slide where its linear ones are (testLinLimits;
-// without useLinearReferenceFrameA it measures the slide from B's origin to A's, so that value's sign turns). Bullet's
-// default slider locks the turn at 0: a 6-dof slider.
+// (calculateTransforms: its depths along frame A's axes, y and z held at 0) and the two frames' x axes together (the
+// Euler angles y and z at 0); the turn about x is locked where its angular limits are equal, the slide where its
+// linear ones are (testLinLimits). Without useLinearReferenceFrameA it measures the slide from B's origin to A's, so
+// that locked value's sign turns; its turn, getAngularPos, is B's about A's x, minus the 6-dof's Euler angle x
+// (LockedRows.h), so the locked turn's sign turns always. Bullet's default slider locks the turn at 0: a 6-dof slider;
+// one free to turn about its axis is a cylindrical joint.
 inline DofLocks sliderLocks(btSliderConstraint& slider)
 {
 	DofLocks k;
 	k.isDof = true;
+	k.eulerXYZ = true;
 	k.frameA = slider.getFrameOffsetA();
 	k.frameB = slider.getFrameOffsetB();
+	const bool referenceA = slider.getUseLinearReferenceFrameA();
 	k.linear[1] = k.linear[2] = true;
 	k.linear[0] = slider.getLowerLinLimit() == slider.getUpperLinLimit();
-	if (k.linear[0]) k.offset[0] = slider.getUseLinearReferenceFrameA() ? slider.getLowerLinLimit() : -slider.getLowerLinLimit();
+	if (k.linear[0]) k.offset[0] = referenceA ? slider.getLowerLinLimit() : -slider.getLowerLinLimit();
 	k.allLinear = k.linear[0];
+	k.angular[1] = k.angular[2] = true;
+	k.angular[0] = slider.getLowerAngLimit() == slider.getUpperAngLimit();
+	if (k.angular[0]) k.angles[0] = -slider.getLowerAngLimit();
 	k.anglesLockedAtZero = slider.getLowerAngLimit() == 0 && slider.getUpperAngLimit() == 0;
 	return k;
 }
@@ -101,7 +121,9 @@ inline DofLocks dofLocks(const btTypedConstraint& c)
 	}
 }
 
-/// A point constraint the projection takes; `locks`: dofLocks(c), which each caller reads for its own use too.
+/// A point constraint the projection takes; `locks`: dofLocks(c), which each caller reads for its own use too. A 6-dof
+/// with its linear axes locked and some angle locked too is also a point here, but its locked rows (LockedRows.h) hold
+/// it whole and are taken first where that option is on.
 inline bool hasPointRows(const btTypedConstraint& c, const DofLocks& locks)
 {
 	if (c.getConstraintType() == POINT2POINT_CONSTRAINT_TYPE) return true;

@@ -4,7 +4,7 @@
 // Discovery: every enabled btQuaternionHingeConstraint of the world with at least one movable body (dynamic and
 // active; static, kinematic and sleeping bodies are fixed: infinite mass, never moved), with projectPointConstraints
 // also every btPoint2PointConstraint and (not angular-only) btConeTwistConstraint (PointRows.h), with
-// projectLockedConstraints every 6-dof with its angles locked at 0 (LockedRows.h), less what the
+// projectLockedConstraints every 6-dof with a mix of locked axes but a ball's (LockedRows.h), less what the
 // user's filter leaves out (btQuaternionHingeStabilizer::setFilter). The scan is summarized as a
 // signature (joint, bodies, which are movable, row counts); while it equals the cached one the islands are reused
 // as they are, with their block pattern, joint numbering and symbolic analysis. When it changes, an island whose own
@@ -15,7 +15,7 @@
 // this is a perfect elimination order of K (the later neighbours of each joint all share one body), so BlockLDLT
 // factorizes it without fill; with loops BlockLDLT::analyze refuses and the island uses SparseLDLT.
 // Rows of joint j: its bilateral rows (5, 2 when angular-only, 3 for a point constraint, one per locked linear axis
-// and 3 angular for a locked 6-dof) at [0, bilateral), the point
+// and per angular row for a locked 6-dof) at [0, bilateral), the point
 // rows first; then, for a joint with a limit
 // (and projectLimits), one limit slot that is a structural zero row while the limit is not violated.
 // Block size: an island in which some joint has a limit slot or 6 rows (a weld) works in 6-row blocks, any other in
@@ -59,10 +59,11 @@ struct SignatureEntry
 		kMovableB = 2,
 		kAngularOnly = 4,
 		kLimitSlot = 8,
-		kContact = 16,      // a contact slot (projectContacts: IslandContacts.h): body[1] null for the fixed partners
-		kLockedAxis0 = 32,  // a locked 6-dof (projectLockedConstraints: LockedRows.h): its locked linear axes, bits 5–7
-		kDofHinge = 256,    // frameHinge is a 6-dof set up as a hinge (else a stock hinge: StockHingeRows.h)
-		kDofShape0 = 512    // … its shape (readFrameHinge: free axis, rotation order), bits 9–13
+		kContact = 16,         // a contact slot (projectContacts: IslandContacts.h): body[1] null for the fixed partners
+		kLockedAxis0 = 32,     // a locked 6-dof (projectLockedConstraints: LockedRows.h): its locked linear axes, bits 5–7
+		kDofHinge = 256,       // frameHinge is a 6-dof set up as a hinge (else a stock hinge: StockHingeRows.h)
+		kDofShape0 = 512,      // … its shape (readFrameHinge: free axis, rotation order), bits 9–13
+		kLockedAngle0 = 16384  // a locked 6-dof's angular rows (LockedRows.h, lockedAngularAxes), bits 14–16
 	};
 	btQuaternionHingeConstraint* joint;       // a quaternion hinge, or null for a point constraint
 	btTypedConstraint* point;                 // a point constraint (projectPointConstraints: PointRows.h), or null
@@ -99,8 +100,9 @@ struct ScanKinds
 /// kinds.locked, its locked 6-dofs: LockedRows.h; with kinds.stockHinges/dofHinges, its stock and 6-dof hinges:
 /// StockHingeRows.h) with a movable body that `filter` (if any) keeps, in constraint order, to out (cleared first);
 /// of the enabled constraints with a movable body it leaves out, it counts (in `skipped`) those the filter left out, those
-/// of a kind whose option is off, those of Bullet's joint types in a form it cannot express (a 6-dof with a limited or
-/// free angle and a free linear axis, a btSliderConstraint free to turn about its axis), faulted quaternion hinges,
+/// of a kind whose option is off, those of Bullet's joint types in a form it cannot express (a 6-dof with no axis locked,
+/// or a btGeneric6DofSpring2Constraint in a rotation order other than XYZ with some angle locked and a linear axis
+/// free; an angular-only cone twist), faulted quaternion hinges,
 /// and constraints of other types (gears, custom constraints): none is skipped uncounted.
 /// fills `skipped` with the joints it did not take and why (btQuaternionHingeStabilizerStats::filteredJoints, skipped*).
 struct ScanSkips
@@ -164,7 +166,7 @@ struct JointSlot
 	bool generalLinear() const { return contact >= 0 || locked != nullptr; }
 	btRigidBody* rigid[2];  // A, B
 	int body[2];            // island body index of A, B; −1 for a fixed body
-	int bilateralRows;      // 5, 2 when angular-only, 3 for a point constraint, 3–6 for a locked 6-dof
+	int bilateralRows;      // 5, 2 when angular-only, 3 for a point constraint, 1–6 for a locked 6-dof
 	int linearRows;         // of which the point rows (first): 3, 0 when angular-only, the locked axes' for a 6-dof
 	bool limitSlot;         // row bilateralRows is the limit row
 	int rows;               // bilateralRows + limitSlot

@@ -74,21 +74,25 @@ struct btQuaternionHingeStabilizerSettings
 	/// a limit row on the 6-dof's own angle of that axis with its limits (wrapped, the nearer stop; lo > hi free).
 	/// With projectLimits, a free axis with a motor, servo or spring enabled is held by that row at the angle and rate
 	/// Bullet's step left it (the projection does not turn a driven joint to close the joints beside it).
-	/// Such a 6-dof is a hinge here, not a point constraint (projectPointConstraints). On by default.
+	/// Such a 6-dof is a hinge here, not a point or locked constraint (projectPoint/LockedConstraints). On by default.
 	bool projectDofHinges = true;
 	/// Also project the pivots of Bullet's point constraints, btPoint2PointConstraint, btConeTwistConstraint (its
 	/// three point rows, unless angular-only; a cone twist's swing and twist limits are not projected) and
 	/// a 6-dof (btGeneric6DofSpring2Constraint, btGeneric6DofConstraint, btGeneric6DofSpringConstraint) with its three
-	/// linear axes locked (low == high; a ball built from a 6-dof, or a hinge
-	/// when projectDofHinges is off, its pivot moved by the locked values; its angles are not projected, and one with its angles locked at 0
-	/// too, a weld or btFixedConstraint, is not taken), in the same islands as the quaternion hinges: a ragdoll of
+	/// linear axes locked (low == high; a ball built from a 6-dof, its pivot moved by the locked values; its angles are
+	/// not projected: a 6-dof with some angle locked as well, a universal joint or a hinge, is a locked 6-dof while
+	/// projectLockedConstraints is on, a point only without it), in the same islands as the quaternion hinges: a ragdoll of
 	/// hinges and cone twists then holds together at every joint. They go through the filter as well. On by default;
 	/// off: not seen (getLastStats().skippedByOption counts them).
 	bool projectPointConstraints = true;
 	/// Also project the 6-dofs whose three angles are locked at 0 — a slider (btGeneric6DofSpring2Constraint,
 	/// btGeneric6DofConstraint or btGeneric6DofSpringConstraint with one or two linear axes free or limited: a URDF
 	/// prismatic joint as pybullet builds it; a btSliderConstraint with its turn locked at 0, as Bullet makes it) or a weld (all six locked; btFixedConstraint) — as rows of the same islands: one per locked linear axis along frame A's axes and three for
-	/// the relative rotation (docs/MATH.md, "Locked 6-dofs"); a free axis's limits and motors are Bullet's alone. A
+	/// the relative rotation (docs/MATH.md, "Locked 6-dofs"). Also the 6-dofs with some of their Euler angles locked
+	/// (at any value; Bullet's XYZ order, every btGeneric6DofConstraint's): a universal joint (btUniversalConstraint), a
+	/// btHinge2Constraint, a cylindrical joint (a btSliderConstraint free to turn about its axis, or a 6-dof so set),
+	/// one row per locked linear axis and per locked angle (MATH.md, "Some angles locked"). A free or limited axis's
+	/// limits, springs and motors are Bullet's alone. A
 	/// gripper's fingers on their slides then hold with the arm (Bullet's Panda in float: 7.8e-7 m off their slide
 	/// lines, against 1.1e-2 m without the stabilizer and 5.3e-2 m with it and this off), and a slider inside a chain
 	/// no longer keeps the error Bullet's solver left it while the hinges around it are closed. The host shares the
@@ -193,7 +197,7 @@ struct btQuaternionHingeStabilizerStats
 	int lockedConstraints = 0;            ///< … locked 6-dofs (projectLockedConstraints)
 	int filteredJoints = 0;               ///< joints the filter left out (setFilter): not projected, not counted above
 	int skippedByOption = 0;              ///< joints of a kind the stabilizer projects whose option is off (project*)
-	int skippedUnexpressible = 0;         ///< Bullet joints in a form it cannot express (e.g. a btSliderConstraint free to turn about its axis, a 6-dof with free angles and linear axes)
+	int skippedUnexpressible = 0;         ///< Bullet joints in a form it cannot express (a 6-dof with no axis locked; a btGeneric6DofSpring2Constraint in a rotation order other than XYZ with an angle locked and a linear axis free)
 	int skippedFaulted = 0;               ///< faulted quaternion hinges (getFault), re-enabled without clearFault
 	int otherConstraints = 0;             ///< constraints of other types (gears, custom btTypedConstraints): never projected
 	int bodies = 0;                       ///< movable bodies in those islands
