@@ -273,7 +273,7 @@ struct EulerChain
 		const btVector3 left(-kLink / 2, 0, 0), right(kLink / 2, 0, 0);
 		scene.hingeToWorld(*links[0], left, btVector3(0, 0, 1));
 		universal = new btUniversalConstraint(*links[0], *links[1], btVector3(kLink, 10, 0), btVector3(0, 0, 1),
-											 btVector3(0, 1, 0));
+											  btVector3(0, 1, 0));
 		scene.addConstraint(universal);
 		btVector3 anchor(2 * kLink, 10, 0), axis1(0, 1, 0), axis2(1, 0, 0);
 		hinge2 = new btHinge2Constraint(*links[1], *links[2], anchor, axis1, axis2);

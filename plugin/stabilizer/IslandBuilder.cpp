@@ -6,6 +6,7 @@
 #include "quathinge/btQuaternionHingeConstraint.h"
 #include "quathinge/btQuaternionHingeStabilizer.h"
 
+#include "ConeTwistRows.h"
 #include "LockedRows.h"
 #include "PointRows.h"
 
@@ -151,7 +152,18 @@ void scanWorld(btDynamicsWorld& world, const ScanKinds& kinds, const btQuaternio
 			if (locked)
 				e.flags |= lockedLinearAxes(locks) * SignatureEntry::kLockedAxis0 |
 						   lockedAngularAxes(locks) * SignatureEntry::kLockedAngle0;
+			// a cone twist's limits (ConeTwistRows.h): the swing's row in its pivot's slot, the twist's in one of its own
+			ConeLimits cone;
+			if (point && projectLimits && kinds.coneLimits && c->getConstraintType() == CONETWIST_CONSTRAINT_TYPE)
+				cone = coneLimits(*static_cast<btConeTwistConstraint*>(c));
+			if (cone.swing) e.flags |= SignatureEntry::kLimitSlot;
 			out.push_back(e);
+			if (cone.twist)
+			{
+				e.flags = (e.flags & (SignatureEntry::kMovableA | SignatureEntry::kMovableB)) | SignatureEntry::kLimitSlot |
+						  SignatureEntry::kTwistSlot;
+				out.push_back(e);
+			}
 			continue;
 		}
 		if (hinge->getAngularOnly()) e.flags |= SignatureEntry::kAngularOnly;
@@ -358,6 +370,8 @@ std::unique_ptr<Island> buildOne(const Array<SignatureEntry>& entries, bool forc
 		slot.bilateralRows = e.point ? 3 : (e.flags & SignatureEntry::kAngularOnly) ? 2
 																					: 5;
 		slot.linearRows = (e.flags & SignatureEntry::kAngularOnly) ? 0 : 3;
+		slot.twistSlot = (e.flags & SignatureEntry::kTwistSlot) != 0;
+		if (slot.twistSlot) slot.bilateralRows = slot.linearRows = 0;  // a cone twist's twist limit row alone
 		if (e.locked)
 		{
 			slot.linearRows = 0;
@@ -388,7 +402,8 @@ std::unique_ptr<Island> buildOne(const Array<SignatureEntry>& entries, bool forc
 									: e.locked     ? kLockedConstraints
 									: e.frameHinge ? (slot.dofHinge ? kDofHinges : kStockHinges)
 												   : kJointKinds;  // a contact slot
-		if (kind != kJointKinds) ++island.jointsOfKind[kind];
+		if (slot.twistSlot) ++island.twistSlots;                   // its cone's
+		else if (kind != kJointKinds) ++island.jointsOfKind[kind];
 		slot.limitActive = slot.limitActiveInFactor = false;
 		slot.limitTouched = 0;
 		slot.held = false;
@@ -397,7 +412,7 @@ std::unique_ptr<Island> buildOne(const Array<SignatureEntry>& entries, bool forc
 		slot.limitGradient.setZero();
 		for (int side = 0; side < 2; ++side)
 			slot.linearSign[side] =
-				((e.flags & SignatureEntry::kAngularOnly) || slot.generalLinear()) ? 0 : (side == 0 ? -1 : 1);
+				((e.flags & SignatureEntry::kAngularOnly) || slot.twistSlot || slot.generalLinear()) ? 0 : (side == 0 ? -1 : 1);
 		island.joints.push_back(slot);
 	}
 

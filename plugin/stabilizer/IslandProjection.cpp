@@ -412,6 +412,18 @@ void readAngleReferences(Island& island)
 			continue;
 		}
 		if (!js.limitSlot) continue;
+		if (js.point)  // a cone twist's swing or twist (ConeTwistRows.h): the variable now, and its stops
+		{
+			const btConeTwistConstraint& cone = *static_cast<const btConeTwistConstraint*>(js.point);
+			const btTransform& tA = js.rigid[0]->getCenterOfMassTransform();
+			const btTransform& tB = js.rigid[1]->getCenterOfMassTransform();
+			btVector3 g;
+			const ConeLimits k = coneLimits(cone);
+			js.angleReference = js.twistSlot ? coneTwistVariable(cone, tA, tB, g) : coneSwingVariable(cone, k, tA, tB, g);
+			js.lowerStop = js.twistSlot ? -k.twistSpan : -SIMD_INFINITY;
+			js.upperStop = js.twistSlot ? k.twistSpan : 0;
+			continue;
+		}
 		js.angleReference = js.joint->getMultiTurnAngle();
 		js.lowerStop = js.joint->getLowerLimit();
 		js.upperStop = js.joint->getUpperLimit();

@@ -1,5 +1,7 @@
 // An island at rest gets the last step's projection back: IslandRestCache.h.
 #include "IslandRestCache.h"
+
+#include "ConeTwistRows.h"
 #include "PointRows.h"
 
 #include "quathinge/btQuaternionHingeConstraint.h"
@@ -47,7 +49,7 @@ size_t inputSize(const Island& island)
 	size_t n = 1 + kPerBody * island.bodies.size();
 	for (const JointSlot& js : island.joints)
 		n += js.contact >= 0 ? kPerContactSlot
-							 : kPerJoint + (js.limitSlot ? 1 : 0) + (js.locked ? 3 : 0) +
+							 : kPerJoint + (js.limitSlot ? 1 : 0) + (js.locked ? 3 : 0) + (js.point ? 6 : 0) +
 								   kPerFixedSide * size_t((js.body[0] < 0) + (js.body[1] < 0));
 	return n;
 }
@@ -118,13 +120,26 @@ void gatherInputs(const Island& island, btScalar timeStep, Array<btScalar>& out)
 			if (js.limitSlot) g.add(js.angleReference);
 			continue;
 		}
-		if (js.point)  // a point constraint: its pivots, the rest of the joint's share zero
+		if (js.point)  // a point constraint: its pivots (a cone twist with a limit row: its frames and spans too), the
+					   // rest of its share (6 more than a joint's) zero
 		{
+			size_t used = 6;
 			btVector3 inA, inB;
 			pointPivots(*js.point, inA, inB);
 			g.add(inA);
 			g.add(inB);
-			for (size_t k = 6; k < kPerJoint; ++k) g.add(btScalar(0));
+			if (js.limitSlot)
+			{
+				const btConeTwistConstraint& cone = *static_cast<const btConeTwistConstraint*>(js.point);
+				const ConeLimits k = coneLimits(cone);
+				g.add(cone.getAFrame());
+				g.add(cone.getBFrame());
+				g.add(btVector3(k.span1, k.span2, k.twistSpan));
+				used += 12 + 12 + 3;
+				static_assert(kPerJoint + 6 == 6 + 12 + 12 + 3, "a cone twist's limits fill its share (6 more than a joint's)");
+			}
+			for (size_t k = used; k < kPerJoint + 6; ++k) g.add(btScalar(0));
+			if (js.limitSlot) g.add(js.angleReference);
 			continue;
 		}
 		const btQuaternionHingeSettings& settings = js.joint->getSettings();

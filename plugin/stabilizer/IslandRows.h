@@ -5,6 +5,7 @@
 #define QUATHINGE_STABILIZER_ISLAND_ROWS_H
 
 #include "CompilerExtensions.h"
+#include "ConeTwistRows.h"
 #include "IslandContacts.h"
 #include "LockedRows.h"
 #include "PointRows.h"
@@ -47,6 +48,21 @@ inline bool hasPointStructure(const btScalar* jac, int rows, int linearRows)
 }
 #endif
 
+// A cone twist with a limit row (ConeTwistRows.h): its point rows and the swing, or, in its twist slot, the twist
+// alone; the limit's variable into js.angle, its gradient into g. Returns the bilateral rows written.
+inline int coneLimitRows(JointSlot& js, const btTransform& tA, const btTransform& tB, btScalar* C, btScalar* jacobian,
+						 btVector3& g)
+{
+	const btConeTwistConstraint& cone = *static_cast<const btConeTwistConstraint*>(js.point);
+	if (js.twistSlot)
+	{
+		js.angle = coneTwistVariable(cone, tA, tB, g);
+		return 0;
+	}
+	js.angle = coneSwingVariable(cone, coneLimits(cone), tA, tB, g);
+	return pointPositionRows(cone, tA, tB, C, jacobian);
+}
+
 struct PositionResidual
 {
 	btScalar linear = 0;         // ‖C‖∞ over the linear rows (m)
@@ -84,7 +100,7 @@ PositionResidual evaluatePositions(BlockIsland<R>& island, btScalar tolerance)
 		const btTransform& tB = js.rigid[1]->getCenterOfMassTransform();
 		// A joint with a limit slot also needs its angle row: both from one evaluation of the joint frames.
 		btVector3 g;
-		const int rows = js.point        ? pointPositionRows(*js.point, tA, tB, c, jac)
+		const int rows = js.point        ? (js.limitSlot ? coneLimitRows(js, tA, tB, c, jac, g) : pointPositionRows(*js.point, tA, tB, c, jac))
 						 : js.locked     ? lockedPositionRows(*js.locked, tA, tB, c, jac)
 						 : js.frameHinge ? (js.limitSlot ? frameHingePositionRows(js.hinge, tA, tB, c, jac,
 																				  js.angleReference, js.angle, g)

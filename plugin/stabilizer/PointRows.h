@@ -1,6 +1,6 @@
 // The point rows of Bullet's own point constraints (btQuaternionHingeStabilizerSettings::projectPointConstraints):
-// btPoint2PointConstraint, the pivot of btConeTwistConstraint (not angular-only; its swing and twist limits are not
-// projected) and of a 6-dof (btGeneric6DofSpring2Constraint, btGeneric6DofConstraint, btGeneric6DofSpringConstraint)
+// btPoint2PointConstraint, the pivot of btConeTwistConstraint (not angular-only; its swing and twist limits are limit
+// rows, ConeTwistRows.h) and of a 6-dof (btGeneric6DofSpring2Constraint, btGeneric6DofConstraint, btGeneric6DofSpringConstraint)
 // whose three linear axes are locked (a ball built from a 6-dof, or a hinge or universal joint when
 // projectDofHinges or projectLockedConstraints is off: its pivot is frame B's origin and frame A's origin moved by the
 // locked values along frame A's axes, a point of body A; its angles are not projected). C = p_B − p_A, the world pivots, and J

@@ -59,11 +59,12 @@ struct SignatureEntry
 		kMovableB = 2,
 		kAngularOnly = 4,
 		kLimitSlot = 8,
-		kContact = 16,         // a contact slot (projectContacts: IslandContacts.h): body[1] null for the fixed partners
-		kLockedAxis0 = 32,     // a locked 6-dof (projectLockedConstraints: LockedRows.h): its locked linear axes, bits 5–7
-		kDofHinge = 256,       // frameHinge is a 6-dof set up as a hinge (else a stock hinge: StockHingeRows.h)
-		kDofShape0 = 512,      // … its shape (readFrameHinge: free axis, rotation order), bits 9–13
-		kLockedAngle0 = 16384  // a locked 6-dof's angular rows (LockedRows.h, lockedAngularAxes), bits 14–16
+		kContact = 16,          // a contact slot (projectContacts: IslandContacts.h): body[1] null for the fixed partners
+		kLockedAxis0 = 32,      // a locked 6-dof (projectLockedConstraints: LockedRows.h): its locked linear axes, bits 5–7
+		kDofHinge = 256,        // frameHinge is a 6-dof set up as a hinge (else a stock hinge: StockHingeRows.h)
+		kDofShape0 = 512,       // … its shape (readFrameHinge: free axis, rotation order), bits 9–13
+		kLockedAngle0 = 16384,  // a locked 6-dof's angular rows (LockedRows.h, lockedAngularAxes), bits 14–16
+		kTwistSlot = 131072     // a cone twist's twist limit, a slot of its own after its pivot's (ConeTwistRows.h)
 	};
 	btQuaternionHingeConstraint* joint;       // a quaternion hinge, or null for a point constraint
 	btTypedConstraint* point;                 // a point constraint (projectPointConstraints: PointRows.h), or null
@@ -94,6 +95,7 @@ struct UpcastCache
 struct ScanKinds
 {
 	bool limits, points, locked, stockHinges, dofHinges;
+	bool coneLimits = false;  // a cone twist's swing and twist limits (with limits and points: ConeTwistRows.h)
 };
 
 /// Appends the world's enabled quaternion hinges (and, with kinds.points, its point constraints: PointRows.h; with
@@ -156,6 +158,7 @@ struct JointSlot
 {
 	btQuaternionHingeConstraint* joint;  // null for a point constraint, a locked 6-dof, a frame hinge or a contact slot
 	btTypedConstraint* point;            // a point constraint (PointRows.h), else null
+	bool twistSlot;                      // … a cone twist's twist limit row alone (its pivot and swing: the slot before)
 	btTypedConstraint* locked;           // a locked 6-dof (LockedRows.h), else null
 	btTypedConstraint* frameHinge;       // a stock or 6-dof hinge (StockHingeRows.h), else null
 	bool dofHinge;                       // … a 6-dof one
@@ -276,6 +279,7 @@ struct Island
 	Array<SignatureEntry> entries;                    // the scan's entries it was built from, in scan order (kept while they stay)
 	Array<JointSlot> joints;                          // in elimination order
 	int jointsOfKind[kJointKinds] = {0, 0, 0, 0, 0};  // by JointKindIndex
+	int twistSlots = 0;                               // cone twists' twist slots (JointSlot::twistSlot): not joints of their own
 	Array<ContactSet> contacts;                       // the contact slots' points this step (projectContacts), by JointSlot::contact
 	bool generalLinear = false;                       // some slot's J has a general linear part (JointSlot::generalLinear())
 	BlockPattern pattern;

@@ -93,6 +93,7 @@ void btQuaternionHingeStabilizer::setSettings(const btQuaternionHingeStabilizerS
 	// projectLimits and solver change the islands' structure.
 	if (settings.projectLimits != m_settings.projectLimits || settings.solver != m_settings.solver ||
 		settings.projectPointConstraints != m_settings.projectPointConstraints ||
+		settings.projectConeTwistLimits != m_settings.projectConeTwistLimits ||
 		settings.projectLockedConstraints != m_settings.projectLockedConstraints ||
 		settings.projectContacts != m_settings.projectContacts ||
 		settings.projectStockHinges != m_settings.projectStockHinges ||
@@ -138,7 +139,8 @@ const btQuaternionHingeStabilizerStats& btQuaternionHingeStabilizer::stabilize(b
 
 	Impl& impl = *m_impl;
 	const ScanKinds kinds{m_settings.projectLimits, m_settings.projectPointConstraints,
-						  m_settings.projectLockedConstraints, m_settings.projectStockHinges, m_settings.projectDofHinges};
+						  m_settings.projectLockedConstraints, m_settings.projectStockHinges, m_settings.projectDofHinges,
+						  m_settings.projectConeTwistLimits};
 	ScanSkips skipped;
 	scanWorld(*world, kinds, m_filter, impl.upcasts, impl.scan, skipped);
 	m_stats.filteredJoints = skipped.filtered;
@@ -234,7 +236,7 @@ const btQuaternionHingeStabilizerStats& btQuaternionHingeStabilizer::stabilize(b
 			if (r.solves == r.iterations) ++m_stats.velocitiesWithinTolerance;
 		}
 		if (island.useSparse) ++m_stats.sparseIslands;
-		m_stats.joints += int(island.joints.size());
+		m_stats.joints += int(island.joints.size()) - island.twistSlots;
 		m_stats.quaternionHinges += island.jointsOfKind[kQuaternionHinges];
 		m_stats.stockHinges += island.jointsOfKind[kStockHinges];
 		m_stats.dofHinges += island.jointsOfKind[kDofHinges];

@@ -2,6 +2,7 @@
 #include "RagdollDemo.h"
 
 #include <algorithm>
+#include <cmath>
 
 namespace qh_test
 {
@@ -141,6 +142,33 @@ void RagdollDemoWorld::jointSeparations(double& hinge, double& cone) const
 							 .length();
 		(c->getConstraintType() == CONETWIST_CONSTRAINT_TYPE ? cone : hinge) = std::max(
 			c->getConstraintType() == CONETWIST_CONSTRAINT_TYPE ? cone : hinge, d);
+	}
+}
+
+void RagdollDemoWorld::limitsPast(double& hinge, double& cone) const
+{
+	hinge = cone = 0;
+	for (int i = 0; i < m_world->getNumConstraints(); ++i)
+	{
+		btTypedConstraint* c = m_world->getConstraint(i);
+		const btTransform& tA = c->getRigidBodyA().getCenterOfMassTransform();
+		const btTransform& tB = c->getRigidBodyB().getCenterOfMassTransform();
+		if (c->getConstraintType() == HINGE_CONSTRAINT_TYPE)
+		{
+			btHingeConstraint& h = *static_cast<btHingeConstraint*>(c);
+			const double angle = double(h.getHingeAngle(tA, tB));
+			hinge = std::max(hinge, std::max(double(h.getLowerLimit()) - angle, angle - double(h.getUpperLimit())));
+		}
+		else if (c->getConstraintType() == CONETWIST_CONSTRAINT_TYPE)
+		{
+			btConeTwistConstraint& k = *static_cast<btConeTwistConstraint*>(c);
+			const btVector3 xA = (tA.getBasis() * k.getAFrame().getBasis()).getColumn(0);
+			const btVector3 xB = (tB.getBasis() * k.getBFrame().getBasis()).getColumn(0);
+			const double swing = std::atan2(double(xA.cross(xB).length()), double(xA.dot(xB)));
+			cone = std::max(cone, swing - double(k.getSwingSpan1()));
+			k.calcAngleInfo2(tA, tB, c->getRigidBodyA().getInvInertiaTensorWorld(), c->getRigidBodyB().getInvInertiaTensorWorld());
+			cone = std::max(cone, double(k.getTwistAngle() - k.getTwistSpan()));
+		}
 	}
 }
 

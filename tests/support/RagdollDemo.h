@@ -34,6 +34,10 @@ public:
 	void addRagdoll(const btVector3& offset, btScalar yaw, btScalar spin);
 	/// The largest pivot separation (m) of the world's enabled hinges, and of its cone twists.
 	void jointSeparations(double& hinge, double& cone) const;
+	/// How far past its limits (rad, ≥ 0) the world's hinges are at most (getHingeAngle against its limits), and its
+	/// cone twists (the swing, the angle between the frames' x axes, past its span: RagdollDemo's cones are round;
+	/// the twist, Bullet's own getTwistAngle after calcAngleInfo2, past its twist span).
+	void limitsPast(double& hinge, double& cone) const;
 	/// The deepest penetration (m, ≥ 0) of a contact point into the ground at the bodies' current poses (the
 	/// manifolds' points on the bodies, against the ground's top y = 0).
 	double groundPenetration() const;

@@ -59,7 +59,8 @@ struct btQuaternionHingeStabilizerSettings
 	bool projectPositions = true;
 	/// Project the velocities (Q14) after the positions.
 	bool projectVelocities = true;
-	/// Project violated limits (the limit row, as an inequality). Off: only the bilateral rows.
+	/// Project violated limits (the limit row, as an inequality; a cone twist's too with projectConeTwistLimits).
+	/// Off: only the bilateral rows.
 	bool projectLimits = true;
 	/// Also project the hinges an app already has, with no class swapped (docs/STABILIZED_JOINTS.md): stock
 	/// btHingeConstraints and btHingeAccumulatedAngleConstraints — their frames (getAFrame, getBFrame; angular-only
@@ -77,7 +78,7 @@ struct btQuaternionHingeStabilizerSettings
 	/// Such a 6-dof is a hinge here, not a point or locked constraint (projectPoint/LockedConstraints). On by default.
 	bool projectDofHinges = true;
 	/// Also project the pivots of Bullet's point constraints, btPoint2PointConstraint, btConeTwistConstraint (its
-	/// three point rows, unless angular-only; a cone twist's swing and twist limits are not projected) and
+	/// three point rows, unless angular-only; its swing and twist limits with projectConeTwistLimits) and
 	/// a 6-dof (btGeneric6DofSpring2Constraint, btGeneric6DofConstraint, btGeneric6DofSpringConstraint) with its three
 	/// linear axes locked (low == high; a ball built from a 6-dof, its pivot moved by the locked values; its angles are
 	/// not projected: a 6-dof with some angle locked as well, a universal joint or a hinge, is a locked 6-dof while
@@ -85,6 +86,16 @@ struct btQuaternionHingeStabilizerSettings
 	/// hinges and cone twists then holds together at every joint. They go through the filter as well. On by default;
 	/// off: not seen (getLastStats().skippedByOption counts them).
 	bool projectPointConstraints = true;
+	/// With projectPointConstraints and projectLimits, also project a btConeTwistConstraint's swing and twist limits
+	/// as two limit rows, in the angles Bullet's cone twist limits (an elliptical cone, a symmetric twist range;
+	/// docs/MATH.md, "Cone-twist limits"), acting past the spans themselves (a softness below 1 leaves the band from
+	/// softness × span to Bullet), unless its motor is on or a swing span is under its fix threshold. RagdollDemo
+	/// ragdolls then stay within their cone limits to the tolerance, where with this off the projection of the
+	/// joints pushes them further past than Bullet alone leaves them (docs/STABILIZER.md, "Ragdolls"). Off by
+	/// default: the large corrections it makes where a ragdoll lands can turn a limb into the ground where the
+	/// contact rows, which hold the manifold's points, do not see it (docs/STABILIZER.md), and a pile's landing can
+	/// take more than the default maxIterations in double precision.
+	bool projectConeTwistLimits = false;
 	/// Also project the 6-dofs whose three angles are locked at 0 — a slider (btGeneric6DofSpring2Constraint,
 	/// btGeneric6DofConstraint or btGeneric6DofSpringConstraint with one or two linear axes free or limited: a URDF
 	/// prismatic joint as pybullet builds it; a btSliderConstraint with its turn locked at 0, as Bullet makes it) or a weld (all six locked; btFixedConstraint) — as rows of the same islands: one per locked linear axis along frame A's axes and three for
