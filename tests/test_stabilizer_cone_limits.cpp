@@ -120,7 +120,7 @@ TEST(StabilizerConeLimits, VariablesMeanWhatBulletReads)
 		if (swing > 0) ++past;
 	}
 	EXPECT_GT(judged, 250);
-	EXPECT_GT(past, 50);          // both sides of the bound were seen
+	EXPECT_GT(past, 50);  // both sides of the bound were seen
 	EXPECT_GT(judged - past, 50);
 }
 

@@ -2,6 +2,8 @@
 #include "IslandContacts.h"
 
 #include "BulletCollision/BroadphaseCollision/btDispatcher.h"
+#include "BulletCollision/CollisionShapes/btCapsuleShape.h"
+#include "BulletCollision/CollisionShapes/btSphereShape.h"
 #include "BulletCollision/NarrowPhaseCollision/btPersistentManifold.h"
 
 #include <algorithm>
@@ -116,6 +118,62 @@ void scanContacts(btDispatcher& dispatcher, Array<SignatureEntry>& scan, Array<s
 			   scan.end());
 }
 
+namespace
+{
+// The centres of a rounded shape's spheres (a btSphereShape's, a btCapsuleShape's two) in its body's frame, and their
+// radius: a sphere's point deepest towards a plane of normal n is its centre − r n whatever the body's turn, so a row
+// on the centre, its plane point moved by r, is the depth of the shape's deepest point there. Returns how many (0: not
+// such a shape).
+int roundedCentres(const btCollisionObject& o, btVector3 centre[2], btScalar& radius)
+{
+	const btCollisionShape* shape = o.getCollisionShape();
+	if (!shape) return 0;
+	if (shape->getShapeType() == SPHERE_SHAPE_PROXYTYPE)
+	{
+		radius = static_cast<const btSphereShape*>(shape)->getRadius();
+		centre[0].setZero();
+		return 1;
+	}
+	if (shape->getShapeType() != CAPSULE_SHAPE_PROXYTYPE) return 0;
+	const btCapsuleShape& capsule = *static_cast<const btCapsuleShape*>(shape);
+	radius = capsule.getRadius();
+	btVector3 axis(0, 0, 0);
+	axis[capsule.getUpAxis()] = capsule.getHalfHeight();
+	centre[0] = axis;
+	centre[1] = -axis;
+	return 2;
+}
+
+// Puts `row` (at Bullet's distance `distance`) into `set`, which keeps its `capacity` deepest rows; a row on a point
+// the set already has with the same normal to rounding (a sphere's centre, from another point of the manifold) keeps
+// the deeper of the two.
+void keepDeepest(ContactSet& set, int capacity, const ContactRow& row, btScalar distance)
+{
+	int at = -1;
+	for (int k = 0; k < set.count; ++k)
+		if (set.rows[k].local == row.local && set.rows[k].sign == row.sign &&
+			set.rows[k].normal.dot(row.normal) > 1 - 4 * SIMD_EPSILON)
+		{
+			if (distance >= set.distance[k]) return;
+			at = k;
+		}
+	if (at < 0 && set.count < capacity) at = set.count++;
+	if (at < 0)
+	{
+		btScalar shallowest = distance;
+		for (int k = 0; k < set.count; ++k)
+			if (set.distance[k] > shallowest)
+			{
+				shallowest = set.distance[k];
+				at = k;
+			}
+	}
+	if (at < 0) return;
+	set.rows[at] = row;
+	set.distance[at] = distance;
+}
+}  // namespace
+
 void gatherContacts(btDispatcher& dispatcher, const Array<std::unique_ptr<Island>>& islands, const IslandBodyMap& bodyOf)
 {
 	for (const auto& island : islands)
@@ -153,32 +211,36 @@ void gatherContacts(btDispatcher& dispatcher, const Array<std::unique_ptr<Island
 		if (!set) continue;
 		const bool fixedB = set->body[1] == nullptr;
 		const int capacity = (std::min)(island->blockRows, kMaxContactRows);
+		// a sphere or capsule on a fixed partner: rows on its spheres' centres (roundedCentres), so that a turn of the
+		// body that sinks another part of it than the manifold's point is seen
+		btVector3 centre[2];
+		btScalar radius = 0;
+		const int centres = fixedB ? roundedCentres(*object[a], centre, radius) : 0;
 		for (int p = 0; p < manifold->getNumContacts(); ++p)
 		{
 			const btManifoldPoint& point = manifold->getContactPoint(p);
-			const btScalar distance = point.getDistance();
-			// the deepest `capacity` points: a new one takes the place of the shallowest kept one if it is deeper
-			int at = -1;
-			if (set->count < capacity) at = set->count++;
-			else
-			{
-				btScalar shallowest = distance;
-				for (int k = 0; k < set->count; ++k)
-					if (set->distance[k] > shallowest)
-					{
-						shallowest = set->distance[k];
-						at = k;
-					}
-			}
-			if (at < 0) continue;
-			ContactRow& row = set->rows[at];
-			row.local = a == 0 ? point.m_localPointA : point.m_localPointB;
+			ContactRow row;
+			row.normal = point.m_normalWorldOnB;
+			row.sign = a == 0 ? btScalar(1) : btScalar(-1);
 			if (fixedB) row.other = a == 0 ? point.getPositionWorldOnB() : point.getPositionWorldOnA();
 			else row.other = a == 0 ? point.m_localPointB : point.m_localPointA;
 			row.partnerVelocity = fixedB ? partnerVelocity(*object[1 - a], row.other) : btVector3(0, 0, 0);
-			row.normal = point.m_normalWorldOnB;
-			row.sign = a == 0 ? btScalar(1) : btScalar(-1);
-			set->distance[at] = distance;
+			if (centres == 0)
+			{
+				// the deepest `capacity` points: a new one takes the place of the shallowest kept one if it is deeper
+				row.local = a == 0 ? point.m_localPointA : point.m_localPointB;
+				keepDeepest(*set, capacity, row, point.getDistance());
+				continue;
+			}
+			// C = s n·(c − (q + s r n)): the partner's point moved out by the radius, towards the body (s n)
+			const btVector3 plane = row.other;
+			row.other = plane + (row.sign * radius) * row.normal;
+			for (int k = 0; k < centres; ++k)
+			{
+				row.local = centre[k];
+				const btVector3 at = object[a]->getWorldTransform() * centre[k];
+				keepDeepest(*set, capacity, row, row.sign * row.normal.dot(at - row.other));
+			}
 		}
 	}
 }

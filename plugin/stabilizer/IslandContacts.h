@@ -17,7 +17,10 @@
 // Rows: at the step's start a slot takes its bodies' deepest manifold points (at most R), held for the step: row r is
 // C_r = s_r n_r·(p_r − q_r) (p_r on the slot's body A, q_r on its body B or the fixed partner, n_r Bullet's normal on
 // the manifold's body B, s_r +1 when the slot's body A is the manifold's body A), Bullet's distance, negative when
-// penetrating, with J_r = s_r (n_r, a_r × n_r | −n_r, −b_r × n_r), a_r, b_r the points' arms in world.
+// penetrating, with J_r = s_r (n_r, a_r × n_r | −n_r, −b_r × n_r), a_r, b_r the points' arms in world. A sphere or
+// capsule on a fixed partner takes its spheres' centres c instead of the manifold's points: C = s n·(c − q) − r, the
+// depth of its deepest point towards the contact plane whatever its turn (q the partner's point, r the radius; the
+// manifold's points are material points, and a turn of the body sinks another part of it than they hold).
 // One-sided, by an active set: a row enters the system once its point penetrates by more than its tolerance and then
 // holds C_r = 0 in the position stage and n·v_rel = 0 (relative to a kinematic partner's velocity) in the velocity stage (which removes the approach and the push-out
 // velocity Bullet's solver gave a penetration the projection has already removed); after a solve, a row whose
