@@ -4,6 +4,7 @@
 #include "HingeAngle.h"
 #include "QuaternionHingeRows.h"
 #include "quathinge/btQuaternionHingeConstraint.h"
+#include "support/RandomPoses.h"
 #include "support/World.h"
 
 #include <gtest/gtest.h>
@@ -17,6 +18,7 @@
 
 using namespace quathinge;
 using qh_test::expRotation;
+using qh_test::randomUnit;
 
 namespace
 {
@@ -35,13 +37,6 @@ const double kRecoverTol = qh_test::kDouble ? 1e-12 : 1e-5;  // dimensionless
 
 const double kHalfPi = 1.5707963267948966;
 const double kPi = 3.14159265358979323846;
-
-btQuaternion randomUnit(std::mt19937& rng)
-{
-	std::normal_distribution<double> n(0, 1);
-	btQuaternion q(btScalar(n(rng)), btScalar(n(rng)), btScalar(n(rng)), btScalar(n(rng)));
-	return q.normalized();
-}
 
 // Joint frame B's world orientation for configuration i, given joint frame A's: a third near the hinge (swing up to
 // 0.4 rad, twist anywhere in [−3π, 3π]), a third anywhere (uniform on SO(3)), a third at chosen swing angles close to

@@ -4,6 +4,7 @@
 // become rows follows Bullet's own rules. The ragdolls that use them: tests/test_stabilizer_ragdoll_demo.cpp.
 #ifdef QUATHINGE_HAVE_STABILIZER
 #include "ConeTwistRows.h"
+#include "support/RandomPoses.h"
 #include "support/RowDerivatives.h"
 #include "support/World.h"
 
@@ -18,21 +19,6 @@ namespace qs = quathinge::stabilizer;
 
 namespace
 {
-struct Random
-{
-	std::mt19937 rng;
-	std::uniform_real_distribution<double> u{-1, 1};
-	btBoxShape shape{btVector3(btScalar(0.2), btScalar(0.1), btScalar(0.1))};
-	btRigidBody a{1, nullptr, &shape}, b{1, nullptr, &shape};
-	explicit Random(unsigned seed) : rng(seed) {}
-	double number() { return u(rng); }
-	btVector3 vec(double s) { return btVector3(btScalar(s * u(rng)), btScalar(s * u(rng)), btScalar(s * u(rng))); }
-	btQuaternion unit()
-	{
-		std::normal_distribution<double> n(0, 1);
-		return btQuaternion(btScalar(n(rng)), btScalar(n(rng)), btScalar(n(rng)), btScalar(n(rng))).normalized();
-	}
-};
 
 // A cone twist between frames random in the bodies, spans 0.2–1.4 rad (swing) and 0–1.4 rad (twist), and the bodies
 // placed so that frame B is turned from frame A by up to `reach` rad.
@@ -40,7 +26,7 @@ struct ConeCase
 {
 	std::unique_ptr<btConeTwistConstraint> cone;
 	btTransform tA, tB;
-	ConeCase(Random& p, double reach)
+	ConeCase(RandomPoses& p, double reach)
 	{
 		const btTransform fa(p.unit(), p.vec(0.3)), fb(p.unit(), p.vec(0.3));
 		cone.reset(new btConeTwistConstraint(p.a, p.b, fa, fb));
@@ -65,7 +51,7 @@ TEST(StabilizerConeLimits, GradientsAreTheDerivativeOfTheVariables)
 	// a step of 1e-3 rad, not ε^⅓ ≈ 5e-3: its truncation error, ~h²/6 · 10⁴ at θ = 0.35 rad, is 0.03 at the default
 	// (measured: up to 1%), 2e-3 at this step, with rounding ε/h ≈ 1e-4.
 	const btScalar kSwingStep = kDouble ? rowDerivativeStep() : btScalar(1e-3);
-	Random p(31);
+	RandomPoses p(31);
 	int checked = 0;
 	for (int n = 0; n < 200; ++n)
 	{
@@ -101,7 +87,7 @@ TEST(StabilizerConeLimits, VariablesMeanWhatBulletReads)
 	// At the same transforms Bullet's cone twist reads itself (calcAngleInfo2): past its swing limit exactly where the
 	// swing variable is positive (elliptical cones: which span bounds which direction), and its twist angle is |τ|.
 	// Configurations within 1e-4 rad of the swing bound are not judged (rounding decides there).
-	Random p(32);
+	RandomPoses p(32);
 	int judged = 0, past = 0;
 	// rad: Bullet reads the twist as 2 acos(w) (getAngle), which near 0 resolves only to about √ε
 	const double tolerance = 4 * std::sqrt(double(SIMD_EPSILON));
@@ -129,7 +115,7 @@ TEST(StabilizerConeLimits, RowsFollowBulletsRulesForWhichLimitsAct)
 	// Bullet's cone twist acts on no limit while its motor is on; on the swing as a cone only with both spans at its
 	// fix threshold or more (else it is a hinge or weld of its own kind); on the twist for a span of 0 or more. A
 	// span of π or more never binds.
-	Random p(33);
+	RandomPoses p(33);
 	btConeTwistConstraint cone(p.a, p.b, btTransform::getIdentity(), btTransform::getIdentity());
 	cone.setLimit(btScalar(0.5), btScalar(0.7), btScalar(0.3));
 	qs::ConeLimits k = qs::coneLimits(cone);

@@ -6,6 +6,8 @@
 // 6-dof's own reading (getAngle, getRelativePivotPosition; the slider's getAngularPos), and a chain of them holds.
 #ifdef QUATHINGE_HAVE_STABILIZER
 #include "LockedRows.h"
+#include "support/LockedDofError.h"
+#include "support/RandomPoses.h"
 #include "support/RowDerivatives.h"
 #include "support/StabilizerScene.h"
 #include "support/World.h"
@@ -29,24 +31,6 @@ namespace qs = quathinge::stabilizer;
 namespace
 {
 const btScalar kLink = btScalar(0.5);  // m, link length
-
-// Seeded random numbers, vectors and orientations, and two boxes for a constraint to join (C and J are read at given
-// transforms: the bodies' own poses are not used).
-struct Random
-{
-	std::mt19937 rng;
-	std::uniform_real_distribution<double> u{-1, 1};
-	btBoxShape shape{btVector3(btScalar(0.2), btScalar(0.1), btScalar(0.1))};
-	btRigidBody a{1, nullptr, &shape}, b{1, nullptr, &shape};
-	explicit Random(unsigned seed) : rng(seed) {}
-	double number() { return u(rng); }
-	btVector3 vec(double s) { return btVector3(btScalar(s * u(rng)), btScalar(s * u(rng)), btScalar(s * u(rng))); }
-	btQuaternion unit()
-	{
-		std::normal_distribution<double> n(0, 1);
-		return btQuaternion(btScalar(n(rng)), btScalar(n(rng)), btScalar(n(rng)), btScalar(n(rng))).normalized();
-	}
-};
 
 // A 6-dof of either family with linear axis i locked at linear[i] where bit i of `linearBits` is set and Euler angle
 // i at angles[i] where bit i of `angularBits` is; every other axis free (low > high).
@@ -76,7 +60,7 @@ struct Configuration
 	btVector3 linear, angles;
 	int linearBits, angularBits;
 	btTransform tA, tB;
-	Configuration(Random& p, int n, double reach)
+	Configuration(RandomPoses& p, int n, double reach)
 	{
 		const btTransform fa(p.unit(), p.vec(0.3)), fb(p.unit(), p.vec(0.3));
 		c.reset(new Dof(p.a, p.b, fa, fb, n % 2 == 0));
@@ -107,7 +91,7 @@ void checkDerivatives(unsigned seed, const char* family)
 {
 	// B's frame within 0.3 rad of A's (near) or up to 2 rad off it (far); where Euler angle y is within 0.2 rad of
 	// ±π/2 or an error a − a₀ or c − c₀ is within 0.1 rad of ±π (where C wraps) there is no derivative to take
-	Random p(seed);
+	RandomPoses p(seed);
 	int checked = 0;
 	for (int n = 0; n < 224; ++n)
 	{
@@ -140,7 +124,7 @@ void checkMeaning(unsigned seed, const char* family)
 	// axis's is getRelativePivotPosition less its value; angle y's, getAngle(1) less its value; x's and z's, their
 	// getAngle less the value (wrapped), times cos y (LockedRows.h: those rows are scaled so they stay bounded where
 	// y = ±π/2). Bullet computes y as asin, the rows as atan2 of the same sine: equal to rounding amplified by 1/cos y.
-	Random p(seed);
+	RandomPoses p(seed);
 	const double tolerance = kDouble ? 1e-11 : 1e-5;  // m or rad, coordinates up to a few metres
 	for (int n = 0; n < 112; ++n)
 	{
@@ -189,7 +173,7 @@ TEST(StabilizerEulerLocks, OtherRotationOrdersKeepTheirPointAndAreNotSkipped)
 {
 	// A btGeneric6DofSpring2Constraint in another rotation order has other Euler angles: with some of them locked and
 	// its linear axes locked it is held by its pivot (a point constraint), not by rows of angles it does not use.
-	Random p(25);
+	RandomPoses p(25);
 	const btTransform fa(p.unit(), p.vec(0.3)), fb(p.unit(), p.vec(0.3));
 	btGeneric6DofSpring2Constraint c(p.a, p.b, fa, fb, RO_ZYX);
 	lock(c, btVector3(0, 0, 0), 7, btVector3(0, btScalar(0.2), 0), 2);
@@ -208,7 +192,7 @@ TEST(StabilizerEulerLocks, SliderFreeToTurnOrLockedAtAnAngleMeansWhatBulletMeasu
 	// a fifth: the turn, getAngularPos, minus the Euler angle x (with useLinearReferenceFrameA or without: only the
 	// slide is measured the other way without it). B is put turned by θ about frame A's x, slid along it, then turned and moved off by up to
 	// 0.01 rad and 1 cm: the turn row's C is getAngularPos − θ₀ (with that sign) to first order.
-	Random p(26);
+	RandomPoses p(26);
 	for (int n = 0; n < 100; ++n)
 	{
 		const btTransform fa(p.unit(), p.vec(0.3)), fb(p.unit(), p.vec(0.3));
@@ -294,28 +278,13 @@ struct EulerChain
 		links[4]->setAngularVelocity(btVector3(4, 0, 0));  // rad/s: the slider's link spins about its axis
 		links[2]->setAngularVelocity(btVector3(2, 0, 0));  // and the wheel of the hinge-2 about its axle
 	}
-	// The largest error over the 6-dofs' locked axes as they read it themselves (getRelativePivotPosition, getAngle
-	// against each locked value; m and rad), and the slider's (B's origin off the slide line, m; the x axes apart, rad).
-	template <class Dof>
-	static void dofError(Dof& c, double& distance, double& angle)
-	{
-		c.calculateTransforms();
-		btVector3 low, high, angularLow, angularHigh;
-		c.getLinearLowerLimit(low);
-		c.getLinearUpperLimit(high);
-		c.getAngularLowerLimit(angularLow);
-		c.getAngularUpperLimit(angularHigh);
-		for (int k = 0; k < 3; ++k)
-		{
-			if (low[k] == high[k]) distance = std::max(distance, std::fabs(double(c.getRelativePivotPosition(k) - low[k])));
-			if (angularLow[k] == angularHigh[k]) angle = std::max(angle, std::fabs(double(c.getAngle(k) - angularLow[k])));
-		}
-	}
+	// The largest error over the 6-dofs' locked axes as they read it themselves (lockedDofError: m and rad), and the
+	// slider's (B's origin off the slide line, m; the x axes apart, rad).
 	void errors(double& distance, double& angle)
 	{
-		dofError(static_cast<btGeneric6DofConstraint&>(*universal), distance, angle);
-		dofError(static_cast<btGeneric6DofSpring2Constraint&>(*hinge2), distance, angle);
-		dofError(*cylinder, distance, angle);
+		lockedDofError(static_cast<btGeneric6DofConstraint&>(*universal), distance, angle);
+		lockedDofError(static_cast<btGeneric6DofSpring2Constraint&>(*hinge2), distance, angle);
+		lockedDofError(*cylinder, distance, angle);
 		slider->calculateTransforms(slider->getRigidBodyA().getCenterOfMassTransform(),
 									slider->getRigidBodyB().getCenterOfMassTransform());
 		const btTransform& ca = slider->getCalculatedTransformA();

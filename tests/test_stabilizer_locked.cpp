@@ -5,6 +5,8 @@
 // and Bullet's Panda keeps its fingers on their slides.
 #ifdef QUATHINGE_HAVE_STABILIZER
 #include "LockedRows.h"
+#include "support/LockedDofError.h"
+#include "support/RandomPoses.h"
 #include "support/RowDerivatives.h"
 #include "support/StabilizerScene.h"
 #include "support/World.h"
@@ -69,12 +71,6 @@ void lockedError(btGeneric6DofSpring2Constraint& c, double& distance, double& an
 						   std::fabs(double(q.w())));
 }
 
-btQuaternion randomUnit(std::mt19937& rng)
-{
-	std::normal_distribution<double> n(0, 1);
-	return btQuaternion(btScalar(n(rng)), btScalar(n(rng)), btScalar(n(rng)), btScalar(n(rng))).normalized();
-}
-
 // A 6-dof of either family locked as a slider or weld: linear axis i at lock[i] where bit i of `pattern` is set, else
 // free; the angles at 0.
 template <class Dof>
@@ -89,19 +85,6 @@ void lockAxes(Dof& c, const btVector3& lock, int pattern)
 	c.setAngularUpperLimit(btVector3(0, 0, 0));
 }
 
-// Seeded random numbers, vectors and orientations, and two boxes for a constraint to join (the tests of C and J at
-// given transforms: the bodies' own poses are not read).
-struct RandomPoses
-{
-	std::mt19937 rng;
-	std::uniform_real_distribution<double> u{-1, 1};
-	btBoxShape shape{btVector3(btScalar(0.2), btScalar(0.1), btScalar(0.1))};
-	btRigidBody a{1, nullptr, &shape}, b{1, nullptr, &shape};
-	explicit RandomPoses(unsigned seed) : rng(seed) {}
-	double number() { return u(rng); }
-	btVector3 vec(double s) { return btVector3(btScalar(s * u(rng)), btScalar(s * u(rng)), btScalar(s * u(rng))); }
-	btQuaternion unit() { return randomUnit(rng); }
-};
 }  // namespace
 
 TEST(StabilizerLocked, RowsAreTheDerivativeOfC)
@@ -333,19 +316,7 @@ struct OldDofChain
 			scene.jointErrors(separation, misalignment);
 			hinge = std::max(hinge, separation);
 			for (btGeneric6DofConstraint* c : {weld, static_cast<btGeneric6DofConstraint*>(slide), ball})
-			{
-				c->calculateTransforms();
-				btVector3 low, high, angularLow, angularHigh;
-				c->getLinearLowerLimit(low);
-				c->getLinearUpperLimit(high);
-				c->getAngularLowerLimit(angularLow);
-				c->getAngularUpperLimit(angularHigh);
-				for (int k = 0; k < 3; ++k)
-				{
-					if (low[k] == high[k]) distance = std::max(distance, std::fabs(double(c->getRelativePivotPosition(k) - low[k])));
-					if (angularLow[k] == angularHigh[k]) angle = std::max(angle, std::fabs(double(c->getAngle(k) - angularLow[k])));
-				}
-			}
+				lockedDofError(*c, distance, angle);
 		}
 	}
 };
