@@ -11,6 +11,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <utility>
 
 using namespace qh_test;
 
@@ -70,7 +71,8 @@ RagdollFigures run(RagdollGround ground, int count, bool stabilized,
 	return f;
 }
 
-void check(RagdollGround ground, int count)
+// Without and with the stabilizer's defaults; returns both (bare, held) for checkConeLimits.
+std::pair<RagdollFigures, RagdollFigures> check(RagdollGround ground, int count)
 {
 	const RagdollFigures bare = run(ground, count, false), held = run(ground, count, true);
 	const char* groundName = ground == RagdollGround::CollisionObject ? "btCollisionObject" : "btRigidBody";
@@ -86,22 +88,23 @@ void check(RagdollGround ground, int count)
 	EXPECT_LE(held.restDepth, bare.restDepth);
 	EXPECT_GT(held.contactRows, 0);
 	EXPECT_EQ(held.skipped, 0);
+	return {bare, held};
 }
 
 // With projectConeTwistLimits the cone twists' swing and twist limits are rows of the projection too: every hinge and
 // cone twist then stays within its limits to kLimitPastTolerance (with the defaults the cone twists go further past
 // than without the stabilizer: the projection moves their bodies to close the hinges and does not see those limits).
-// The pile's landings take up to 15 Newton iterations in double (measured), so maxIterations is 20 here.
-void checkConeLimits(int count)
+// The pile's landings take up to 15 Newton iterations in double (measured), so maxIterations is 20 here. `bare` and
+// `defaults`: the same world's runs without the stabilizer and with its defaults (check, on the btCollisionObject ground).
+void checkConeLimits(int count, const RagdollFigures& bare, const RagdollFigures& defaults)
 {
 	btQuaternionHingeStabilizerSettings settings;
 	settings.projectConeTwistLimits = true;
 	settings.maxIterations = 20;
-	const RagdollFigures bare = run(RagdollGround::CollisionObject, count, false), held = run(RagdollGround::CollisionObject, count, true, settings);
-	const RagdollFigures defaults = count == 1 ? run(RagdollGround::CollisionObject, count, true) : RagdollFigures();  // (printed)
+	const RagdollFigures held = run(RagdollGround::CollisionObject, count, true, settings);
 	std::printf(
 		"[ measured ] %d ragdoll(s), projectConeTwistLimits: joints %.2e m (hinges), %.2e m (cone twists); past the limits: "
-		"hinges %.2e rad, cone twists %.2e rad (without the stabilizer %.2e rad, with its defaults %.2e rad, one ragdoll); resting "
+		"hinges %.2e rad, cone twists %.2e rad (without the stabilizer %.2e rad, with its defaults %.2e rad); resting "
 		"ground penetration %.2e m (without %.2e m)\n",
 		count, held.hinge, held.cone, held.hingePast, held.conePast, bare.conePast, defaults.conePast, held.restDepth,
 		bare.restDepth);
@@ -115,10 +118,17 @@ void checkConeLimits(int count)
 }
 }  // namespace
 
-TEST(StabilizerRagdollDemo, OneRagdollOnACollisionObjectGround) { check(RagdollGround::CollisionObject, 1); }
+// On the btCollisionObject ground (RagdollDemo's), each world also runs with projectConeTwistLimits.
+TEST(StabilizerRagdollDemo, OneRagdollOnACollisionObjectGround)
+{
+	const auto figures = check(RagdollGround::CollisionObject, 1);
+	checkConeLimits(1, figures.first, figures.second);
+}
 TEST(StabilizerRagdollDemo, OneRagdollOnARigidBodyGround) { check(RagdollGround::StaticBody, 1); }
-TEST(StabilizerRagdollDemo, APileOfTwentyOnACollisionObjectGround) { check(RagdollGround::CollisionObject, 20); }
+TEST(StabilizerRagdollDemo, APileOfTwentyOnACollisionObjectGround)
+{
+	const auto figures = check(RagdollGround::CollisionObject, 20);
+	checkConeLimits(20, figures.first, figures.second);
+}
 TEST(StabilizerRagdollDemo, APileOfTwentyOnARigidBodyGround) { check(RagdollGround::StaticBody, 20); }
-TEST(StabilizerRagdollDemo, OneRagdollWithItsConeTwistLimitsProjected) { checkConeLimits(1); }
-TEST(StabilizerRagdollDemo, APileOfTwentyWithTheirConeTwistLimitsProjected) { checkConeLimits(20); }
 #endif
