@@ -233,8 +233,7 @@ void gatherContacts(btDispatcher& dispatcher, const Array<std::unique_ptr<Island
 				continue;
 			}
 			// C = s n·(c − (q + s r n)): the partner's point moved out by the radius, towards the body (s n)
-			const btVector3 plane = row.other;
-			row.other = plane + (row.sign * radius) * row.normal;
+			row.other += (row.sign * radius) * row.normal;
 			for (int k = 0; k < centres; ++k)
 			{
 				row.local = centre[k];

@@ -412,14 +412,11 @@ void readAngleReferences(Island& island)
 			continue;
 		}
 		if (!js.limitSlot) continue;
-		if (js.point)  // a cone twist's swing or twist (ConeTwistRows.h): the variable now, and its stops
+		if (js.point)  // a cone twist's swing or twist (ConeTwistRows.h): its stops
 		{
-			const btConeTwistConstraint& cone = *static_cast<const btConeTwistConstraint*>(js.point);
-			const btTransform& tA = js.rigid[0]->getCenterOfMassTransform();
-			const btTransform& tB = js.rigid[1]->getCenterOfMassTransform();
-			btVector3 g;
-			const ConeLimits k = coneLimits(cone);
-			js.angleReference = js.twistSlot ? coneTwistVariable(cone, tA, tB, g) : coneSwingVariable(cone, k, tA, tB, g);
+			// (a cone's limit row is never held, so nothing reads a reference: its variable comes with its rows)
+			const ConeLimits k = coneLimits(*static_cast<const btConeTwistConstraint*>(js.point));
+			js.angleReference = 0;
 			js.lowerStop = js.twistSlot ? -k.twistSpan : -SIMD_INFINITY;
 			js.upperStop = js.twistSlot ? k.twistSpan : 0;
 			continue;

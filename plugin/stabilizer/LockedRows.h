@@ -89,6 +89,7 @@ inline int lockedPositionRows(const btTypedConstraint& c, const btTransform& tra
 		C[row] = e.dot(d) - k.offset[i];
 		write(-e, e.cross(armA), e, rB.cross(e));
 	}
+	const btVector3 zero(0, 0, 0);
 	if (k.anglesLockedAtZero)
 	{
 		btQuaternion a, b;
@@ -99,7 +100,6 @@ inline int lockedPositionRows(const btTypedConstraint& c, const btTransform& tra
 		const btScalar w = q.getW(), x = q.getX(), y = q.getY(), z = q.getZ();
 		// w I − [q_v]×, by rows
 		const btVector3 m[3] = {btVector3(w, z, -y), btVector3(-z, w, x), btVector3(y, -x, w)};
-		const btVector3 zero(0, 0, 0);
 		const btScalar v[3] = {x, y, z};
 		for (int r = 0; r < 3; ++r)
 		{
@@ -122,7 +122,6 @@ inline int lockedPositionRows(const btTypedConstraint& c, const btTransform& tra
 	else btPlaneSpace1(a2, n, unused);  // b = ±π/2: a and c are not defined, their rows' C is 0
 	const btVector3 m0 = n.cross(a2), m2 = b0.cross(n);
 	const btScalar angle[3] = {btAtan2(-a2.dot(b1), a2.dot(b2)), btAtan2(sinB, cosB), btAtan2(-a1.dot(b0), a0.dot(b0))};
-	const btVector3 zero(0, 0, 0);
 	for (int i = 0; i < 3; ++i)
 	{
 		if (!k.angular[i]) continue;
