@@ -237,7 +237,7 @@ TEST(StabilizerEulerLocks, SliderFreeToTurnOrLockedAtAnAngleMeansWhatBulletMeasu
 
 namespace
 {
-// A 5-link chain released horizontally at 10 m: a quaternion hinge (z) to the world, then Bullet's
+// A 5-link chain released horizontally at 2 m: a quaternion hinge (z) to the world, then Bullet's
 // btUniversalConstraint (axes z and y), its btHinge2Constraint (axes y and x, its suspension spring on y), a
 // cylindrical btGeneric6DofSpring2Constraint (x free, linear and angular) and a btSliderConstraint free to turn,
 // both of those slides within ±0.2 m; the last link is spun about the chain.
@@ -253,13 +253,13 @@ struct EulerChain
 		std::vector<btRigidBody*> links;
 		for (int i = 0; i < 5; ++i)
 			links.push_back(scene.box(btVector3(kLink / 2, btScalar(0.05), btScalar(0.05)), 1,
-									  btVector3(kLink * (btScalar(i) + btScalar(0.5)), 10, 0)));
+									  btVector3(kLink * (btScalar(i) + btScalar(0.5)), 2, 0)));
 		const btVector3 left(-kLink / 2, 0, 0), right(kLink / 2, 0, 0);
 		scene.hingeToWorld(*links[0], left, btVector3(0, 0, 1));
-		universal = new btUniversalConstraint(*links[0], *links[1], btVector3(kLink, 10, 0), btVector3(0, 0, 1),
+		universal = new btUniversalConstraint(*links[0], *links[1], btVector3(kLink, 2, 0), btVector3(0, 0, 1),
 											  btVector3(0, 1, 0));
 		scene.addConstraint(universal);
-		btVector3 anchor(2 * kLink, 10, 0), axis1(0, 1, 0), axis2(1, 0, 0);
+		btVector3 anchor(2 * kLink, 2, 0), axis1(0, 1, 0), axis2(1, 0, 0);
 		hinge2 = new btHinge2Constraint(*links[1], *links[2], anchor, axis1, axis2);
 		scene.addConstraint(hinge2);
 		btTransform fa = btTransform::getIdentity(), fb = btTransform::getIdentity();
@@ -293,10 +293,22 @@ struct EulerChain
 		distance = std::max(distance, double((d - xA * d.dot(xA)).length()));
 		angle = std::max(angle, double(xA.cross(xB).length()));
 	}
-	// Steps 2 s: the largest errors after any step, and the largest hinge separation (m).
-	void run(double& hinge, double& distance, double& angle)
+	// How far the joints are past their limits as they read it themselves (limitedDofPast: the universal joint's
+	// angles y and z, the hinge-2's suspension and steering, the cylinder's slide; the slider's getLinearPos), m and rad.
+	void past(double& distance, double& angle)
+	{
+		limitedDofPast(static_cast<btGeneric6DofConstraint&>(*universal), distance, angle);
+		limitedDofPast(static_cast<btGeneric6DofSpring2Constraint&>(*hinge2), distance, angle);
+		limitedDofPast(*cylinder, distance, angle);
+		slider->testLinLimits();  // after errors()' calculateTransforms
+		const double x = double(slider->getLinearPos());
+		distance = std::max({distance, double(slider->getLowerLinLimit()) - x, x - double(slider->getUpperLinLimit())});
+	}
+	// Steps 2 s: the largest errors after any step, and the largest hinge separation (m); how far past a limit (m, rad).
+	void run(double& hinge, double& distance, double& angle, double* pastLimits = nullptr)
 	{
 		hinge = distance = angle = 0;
+		if (pastLimits) pastLimits[0] = pastLimits[1] = 0;
 		for (int i = 0; i < 120; ++i)
 		{
 			scene.world().stepSimulation(kTimeStep, 0);
@@ -304,6 +316,7 @@ struct EulerChain
 			scene.jointErrors(separation, misalignment);
 			hinge = std::max(hinge, separation);
 			errors(distance, angle);
+			if (pastLimits) past(pastLimits[0], pastLimits[1]);
 		}
 	}
 };
@@ -316,13 +329,14 @@ TEST(StabilizerEulerLocks, UniversalHinge2AndCylindricalJointsHoldWithTheDefault
 	EulerChain bare, held;
 	btQuaternionHingeStabilizer stabilizer;  // the defaults
 	held.scene.addAction(&stabilizer);
-	double bareHinge, bareDistance, bareAngle, hinge, distance, angle;
-	bare.run(bareHinge, bareDistance, bareAngle);
-	held.run(hinge, distance, angle);
+	double bareHinge, bareDistance, bareAngle, hinge, distance, angle, barePast[2], past[2];
+	bare.run(bareHinge, bareDistance, bareAngle, barePast);
+	held.run(hinge, distance, angle, past);
 	std::printf(
 		"[ figures  ] universal, hinge-2, cylindrical 6-dof, slider free to turn; largest error over 2 s: stabilized "
-		"%.2e m %.2e rad (hinge %.2e m); bare %.2e m %.2e rad (hinge %.2e m)\n",
-		distance, angle, hinge, bareDistance, bareAngle, bareHinge);
+		"%.2e m %.2e rad (hinge %.2e m), past a limit %.2e m %.2e rad; bare %.2e m %.2e rad (hinge %.2e m), past a "
+		"limit %.2e m %.2e rad\n",
+		distance, angle, hinge, past[0], past[1], bareDistance, bareAngle, bareHinge, barePast[0], barePast[1]);
 	const btQuaternionHingeStabilizerStats& stats = stabilizer.getLastStats();
 	EXPECT_EQ(stats.skippedUnexpressible, 0);
 	EXPECT_EQ(stats.skippedByOption, 0);
@@ -333,6 +347,9 @@ TEST(StabilizerEulerLocks, UniversalHinge2AndCylindricalJointsHoldWithTheDefault
 	EXPECT_LE(angle, 10 * kSeparationTolerance);  // rad: float's rounding of the angles read from the frames
 	EXPECT_LE(hinge, kSeparationTolerance);
 	EXPECT_GT(bareDistance + bareAngle, 100 * kSeparationTolerance);  // Bullet's solver alone leaves them apart
+	// their limits (LockedRows.h's limit rows): the issue's target, 1e-3 m or rad past a stop
+	EXPECT_LE(past[0], 1e-3);
+	EXPECT_LE(past[1], 1e-3);
 	EXPECT_EQ(stats.numericalIssues, 0);
 	ASSERT_TRUE(held.scene.allFinite());
 }

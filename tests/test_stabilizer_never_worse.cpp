@@ -45,7 +45,7 @@ const double kWorseDepth = 1e-6;  // m: a contact point's penetration
 
 // Every measured error of the world now, in a fixed order (the manifolds' points are not changed by the projection):
 // per joint its pivot separation (m), axis misalignment (rad) and how far its angle is past a stop (rad); per slider
-// its distance from the slide line (m); per contact point its penetration (m, ≥ 0) at the bodies' current poses.
+// its distance from the slide line and how far past its limits (m); per contact point its penetration (m, ≥ 0) at the bodies' current poses.
 struct Errors
 {
 	std::vector<double> separation, angle, depth;
@@ -70,6 +70,14 @@ Errors measure(Simulation& sim)
 	for (const MeasuredJoint& s : sim.sliders)
 	{
 		e.separation.push_back(measureSliderSeparation(s));
+		e.resolution.push_back(pivotResolution(s));
+		if (!s.hasLimit) continue;
+		// how far its child is past the slide's limits (frame A's x · (p_B − p_A))
+		const btVector3 xa = s.a->getCenterOfMassTransform().getBasis() * s.frameA.getBasis().getColumn(0);
+		const btVector3 d = s.b->getCenterOfMassTransform() * s.frameB.getOrigin() -
+							s.a->getCenterOfMassTransform() * s.frameA.getOrigin();
+		const double x = double(d.dot(xa));
+		e.separation.push_back(std::max({0.0, s.lower - x, x - s.upper}));
 		e.resolution.push_back(pivotResolution(s));
 	}
 	btDispatcher& d = *sim.world().getDispatcher();

@@ -113,7 +113,7 @@ void Simulation::addSlider(const SliderSpec& s, btRigidBody& a, btRigidBody& b)
 							s.pivot);
 	const btTransform fa = a.getCenterOfMassTransform().inverse() * frame;
 	const btTransform fb = b.getCenterOfMassTransform().inverse() * frame;
-	sliders.push_back(MeasuredJoint{&a, &b, fa, fb});
+	sliders.push_back(MeasuredJoint{&a, &b, fa, fb, s.hasLimit, double(s.lower), double(s.upper)});
 	if (m_multiBody) return;
 	auto* d = new btGeneric6DofSpring2Constraint(a, b, fa, fb, RO_XYZ);
 	d->setLinearLowerLimit(btVector3(s.hasLimit ? s.lower : btScalar(1), 0, 0));  // x free: lower > upper

@@ -33,7 +33,7 @@ struct MeasuredJoint
 	btRigidBody* b;
 	btTransform frameA, frameB;
 	bool hasLimit = false;
-	double lower = 0, upper = 0;  // θ, rad
+	double lower = 0, upper = 0;  // θ, rad (a slider's: m along its slide, frame A's x)
 	double theta = 0;             // continuous θ measured from the frames (independent of the kind's own angle)
 	bool thetaValid = false;
 };

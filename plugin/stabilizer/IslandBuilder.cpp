@@ -152,16 +152,26 @@ void scanWorld(btDynamicsWorld& world, const ScanKinds& kinds, const btQuaternio
 			if (locked)
 				e.flags |= lockedLinearAxes(locks) * SignatureEntry::kLockedAxis0 |
 						   lockedAngularAxes(locks) * SignatureEntry::kLockedAngle0;
-			// a cone twist's limits (ConeTwistRows.h): the swing's row in its pivot's slot, the twist's in one of its own
+			// a cone twist's limits (ConeTwistRows.h): the swing's row in its pivot's slot, the twist's in one of its own;
+			// a locked 6-dof's limited axes (LockedRows.h): the first's row in its slot, each further one's in its own
 			ConeLimits cone;
 			if (point && projectLimits && kinds.coneLimits && c->getConstraintType() == CONETWIST_CONSTRAINT_TYPE)
 				cone = coneLimits(*static_cast<btConeTwistConstraint*>(c));
+			int axes[6];
+			const int limited = locked && projectLimits ? limitedAxes(locks, axes) : 0;
 			if (cone.swing) e.flags |= SignatureEntry::kLimitSlot;
+			if (limited > 0) e.flags |= SignatureEntry::kLimitSlot | unsigned(axes[0]) * SignatureEntry::kLimitAxis0;
 			out.push_back(e);
+			const unsigned movable = e.flags & (SignatureEntry::kMovableA | SignatureEntry::kMovableB);
 			if (cone.twist)
 			{
-				e.flags = (e.flags & (SignatureEntry::kMovableA | SignatureEntry::kMovableB)) | SignatureEntry::kLimitSlot |
-						  SignatureEntry::kTwistSlot;
+				e.flags = movable | SignatureEntry::kLimitSlot | SignatureEntry::kLimitOnly;
+				out.push_back(e);
+			}
+			for (int i = 1; i < limited; ++i)
+			{
+				e.flags = movable | SignatureEntry::kLimitSlot | SignatureEntry::kLimitOnly |
+						  unsigned(axes[i]) * SignatureEntry::kLimitAxis0;
 				out.push_back(e);
 			}
 			continue;
@@ -370,8 +380,8 @@ std::unique_ptr<Island> buildOne(const Array<SignatureEntry>& entries, bool forc
 		slot.bilateralRows = e.point ? 3 : (e.flags & SignatureEntry::kAngularOnly) ? 2
 																					: 5;
 		slot.linearRows = (e.flags & SignatureEntry::kAngularOnly) ? 0 : 3;
-		slot.twistSlot = (e.flags & SignatureEntry::kTwistSlot) != 0;
-		if (slot.twistSlot) slot.bilateralRows = slot.linearRows = 0;  // a cone twist's twist limit row alone
+		slot.limitOnly = (e.flags & SignatureEntry::kLimitOnly) != 0;
+		if (slot.limitOnly) slot.bilateralRows = slot.linearRows = 0;  // a limit row alone
 		if (e.locked)
 		{
 			slot.linearRows = 0;
@@ -382,6 +392,8 @@ std::unique_ptr<Island> buildOne(const Array<SignatureEntry>& entries, bool forc
 		}
 		slot.limitSlot = (e.flags & SignatureEntry::kLimitSlot) != 0;
 		slot.rows = slot.bilateralRows + (slot.limitSlot ? 1 : 0);
+		slot.limitAxis = e.locked && slot.limitSlot ? int((e.flags / SignatureEntry::kLimitAxis0) & 7) : -1;
+		slot.limitLinear = slot.limitAxis >= 0 && slot.limitAxis < 3;
 		slot.contactTouched = slot.contactReleased = slot.contactActiveInFactor = 0;
 		if (e.flags & SignatureEntry::kContact)
 		{
@@ -402,7 +414,7 @@ std::unique_ptr<Island> buildOne(const Array<SignatureEntry>& entries, bool forc
 									: e.locked     ? kLockedConstraints
 									: e.frameHinge ? (slot.dofHinge ? kDofHinges : kStockHinges)
 												   : kJointKinds;  // a contact slot
-		if (slot.twistSlot) ++island.twistSlots;                   // its cone's
+		if (slot.limitOnly) ++island.limitOnlySlots;               // its joint's
 		else if (kind != kJointKinds) ++island.jointsOfKind[kind];
 		slot.limitActive = slot.limitActiveInFactor = false;
 		slot.limitTouched = 0;
@@ -412,7 +424,7 @@ std::unique_ptr<Island> buildOne(const Array<SignatureEntry>& entries, bool forc
 		slot.limitGradient.setZero();
 		for (int side = 0; side < 2; ++side)
 			slot.linearSign[side] =
-				((e.flags & SignatureEntry::kAngularOnly) || slot.twistSlot || slot.generalLinear()) ? 0 : (side == 0 ? -1 : 1);
+				((e.flags & SignatureEntry::kAngularOnly) || slot.limitOnly || slot.generalLinear()) ? 0 : (side == 0 ? -1 : 1);
 		island.joints.push_back(slot);
 	}
 

@@ -412,13 +412,21 @@ void readAngleReferences(Island& island)
 			continue;
 		}
 		if (!js.limitSlot) continue;
+		if (js.locked)  // a locked 6-dof's limited axis (LockedRows.h): its stops (never held; its variable comes with its rows)
+		{
+			const DofLocks k = dofLocks(*js.locked);
+			js.angleReference = 0;
+			js.lowerStop = k.low[js.limitAxis];
+			js.upperStop = k.high[js.limitAxis];
+			continue;
+		}
 		if (js.point)  // a cone twist's swing or twist (ConeTwistRows.h): its stops
 		{
 			// (a cone's limit row is never held, so nothing reads a reference: its variable comes with its rows)
 			const ConeLimits k = coneLimits(*static_cast<const btConeTwistConstraint*>(js.point));
 			js.angleReference = 0;
-			js.lowerStop = js.twistSlot ? -k.twistSpan : -SIMD_INFINITY;
-			js.upperStop = js.twistSlot ? k.twistSpan : 0;
+			js.lowerStop = js.limitOnly ? -k.twistSpan : -SIMD_INFINITY;
+			js.upperStop = js.limitOnly ? k.twistSpan : 0;
 			continue;
 		}
 		js.angleReference = js.joint->getMultiTurnAngle();

@@ -49,7 +49,7 @@ size_t inputSize(const Island& island)
 	size_t n = 1 + kPerBody * island.bodies.size();
 	for (const JointSlot& js : island.joints)
 		n += js.contact >= 0 ? kPerContactSlot
-							 : kPerJoint + (js.limitSlot ? 1 : 0) + (js.locked ? 3 : 0) + (js.point ? 6 : 0) +
+							 : kPerJoint + (js.limitSlot ? 1 : 0) + (js.locked ? 3 : 0) + (js.locked && js.limitSlot ? 1 : 0) + (js.point ? 6 : 0) +
 								   kPerFixedSide * size_t((js.body[0] < 0) + (js.body[1] < 0));
 	return n;
 }
@@ -107,6 +107,11 @@ void gatherInputs(const Island& island, btScalar timeStep, Array<btScalar>& out)
 			g.add(k.offset);
 			g.add(k.angles);  // (3 more than the joint's share)
 			static_assert(kPerJoint == 12 + 12 + 3, "a locked 6-dof fills the joint's share");
+			if (js.limitSlot)  // its limited axis's stops (1 more than a limit slot's share)
+			{
+				g.add(js.lowerStop);
+				g.add(js.upperStop);
+			}
 			continue;
 		}
 		if (js.frameHinge)  // a stock or 6-dof hinge: its frames and limit as read this step (readAngleReferences)

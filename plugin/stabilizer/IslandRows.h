@@ -54,7 +54,7 @@ inline int coneLimitRows(JointSlot& js, const btTransform& tA, const btTransform
 						 btVector3& g)
 {
 	const btConeTwistConstraint& cone = *static_cast<const btConeTwistConstraint*>(js.point);
-	if (js.twistSlot)
+	if (js.limitOnly)
 	{
 		js.angle = coneTwistVariable(cone, tA, tB, g);
 		return 0;
@@ -100,8 +100,11 @@ PositionResidual evaluatePositions(BlockIsland<R>& island, btScalar tolerance)
 		const btTransform& tB = js.rigid[1]->getCenterOfMassTransform();
 		// A joint with a limit slot also needs its angle row: both from one evaluation of the joint frames.
 		btVector3 g;
+		LockedLimit lockedLimit;  // a locked 6-dof's limited axis (LockedRows.h)
+		lockedLimit.axis = js.limitAxis;
 		const int rows = js.point        ? (js.limitSlot ? coneLimitRows(js, tA, tB, c, jac, g) : pointPositionRows(*js.point, tA, tB, c, jac))
-						 : js.locked     ? lockedPositionRows(*js.locked, tA, tB, c, jac)
+						 : js.locked     ? lockedPositionRows(*js.locked, tA, tB, c, jac, js.limitSlot ? &lockedLimit : nullptr,
+															  !js.limitOnly)
 						 : js.frameHinge ? (js.limitSlot ? frameHingePositionRows(js.hinge, tA, tB, c, jac,
 																				  js.angleReference, js.angle, g)
 														 : frameHingePositionRows(js.hinge, tA, tB, c, jac))
@@ -141,14 +144,21 @@ PositionResidual evaluatePositions(BlockIsland<R>& island, btScalar tolerance)
 		btAssert(R == 6);  // an island with a limit slot works in 6-row blocks
 
 		// The limit row: the multi-turn angle α continued from the step's reference, and its gradient g (the joint's own
-		// Q11, btQuaternionHingeConstraint::computeAngleRow; computed above with the position rows).
-		for (int k = 0; k < 3; ++k)
+		// Q11, btQuaternionHingeConstraint::computeAngleRow; computed above with the position rows); a locked 6-dof's
+		// limited axis, its variable and whole gradient (linear too: the slot's linear part is general).
+		if (js.locked)
 		{
-			js.limitGradient[k] = 0;
-			js.limitGradient[3 + k] = -g[k];
-			js.limitGradient[6 + k] = 0;
-			js.limitGradient[9 + k] = g[k];
+			js.angle = lockedLimit.value;
+			for (int k = 0; k < 12; ++k) js.limitGradient[k] = lockedLimit.gradient[k];
 		}
+		else
+			for (int k = 0; k < 3; ++k)
+			{
+				js.limitGradient[k] = 0;
+				js.limitGradient[3 + k] = -g[k];
+				js.limitGradient[6 + k] = 0;
+				js.limitGradient[9 + k] = g[k];
+			}
 		if (js.limitTouched == 0)
 		{
 			if (js.angle < js.lowerStop) js.limitTouched = 1;
@@ -162,8 +172,9 @@ PositionResidual evaluatePositions(BlockIsland<R>& island, btScalar tolerance)
 		jb.c[r] = js.limitActive ? js.angle - stop : 0;
 		if (js.limitActive) jb.jacobian.row(r) = js.limitGradient;
 		else jb.jacobian.row(r).setZero();
-		res.angular = btMax(res.angular, btFabs(btScalar(jb.c[r])));
-		res.normalized = btMax(res.normalized, btFabs(btScalar(jb.c[r])) / angularThreshold);
+		btScalar& worst = js.limitLinear ? res.linear : res.angular;  // a locked 6-dof's linear axis: a length
+		worst = btMax(worst, btFabs(btScalar(jb.c[r])));
+		res.normalized = btMax(res.normalized, btFabs(btScalar(jb.c[r])) / (js.limitLinear ? linearThreshold : angularThreshold));
 		if (js.limitActive != js.limitActiveInFactor) res.limitsChanged = true;
 	}
 	return res;
@@ -241,7 +252,8 @@ VelocityResidual evaluateVelocities(BlockIsland<R>& island, bool decideLimits, b
 		for (int r = 0; r < js.rows; ++r)
 		{
 			const btScalar value = btFabs(btScalar(jb.jv[r]));
-			const btScalar threshold = (r < linearRows ? js.linearThreshold : js.angularThreshold) / timeStep;
+			const bool linear = r < linearRows || (r == js.bilateralRows && js.limitLinear);
+			const btScalar threshold = (linear ? js.linearThreshold : js.angularThreshold) / timeStep;
 			res.max = btMax(res.max, value);
 			res.normalized = btMax(res.normalized, value / btMax(threshold, floor));
 		}

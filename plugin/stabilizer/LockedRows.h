@@ -17,6 +17,10 @@
 //   d(2 q_v)/dt = (w I − [q_v]×) u,   J = (0, −G | 0, G),   G = (w I − [q_v]×) R_FAᵀ.
 // With some angles locked, one row per locked Euler angle instead, in Bullet's own angles (MATH.md, "Some angles
 // locked"; lockedPositionRows below).
+// Each limited axis (low < high: a slider's stops, a universal joint's angles) is a limit row (with projectLimits): its
+// variable, a linear axis's e_i·d or a Euler angle, and that variable's exact gradient (lockedPositionRows with a
+// LockedLimit; docs/MATH.md, "Limited axes of a locked 6-dof"); the first in the joint's slot, each further one in a
+// slot of its own (StabilizerIsland.h, kLimitOnly).
 // All are the exact derivatives of their C (tests/test_stabilizer_locked.cpp and test_stabilizer_euler_locks.cpp check
 // them against finite differences),
 // so Newton converges on them as on the hinge's rows. The linear part is not ±I (it turns with body A): the assembly
@@ -57,11 +61,31 @@ inline unsigned lockedAngularAxes(const DofLocks& locks)
 	return (locks.angular[0] ? 1u : 0u) | (locks.angular[1] ? 2u : 0u) | (locks.angular[2] ? 4u : 0u);
 }
 
+/// The locked 6-dof's limited axes (DofLocks::limited) in the order their limit rows take them: at most 6.
+inline int limitedAxes(const DofLocks& locks, int* axes)
+{
+	int n = 0;
+	for (int i = 0; i < 6; ++i)
+		if (locks.limited[i]) axes[n++] = i;
+	return n;
+}
+
+/// One limited axis's variable and its gradient (v_A, ω_A, v_B, ω_B; d/dt = gradient · v) for its limit row.
+struct LockedLimit
+{
+	int axis = -1;  // DofLocks::limited's index: 0–2 linear (m), 3–5 Euler angles (rad)
+	btScalar value = 0;
+	btScalar gradient[12];
+};
+
 /// C and J (rows of 12: v_A, ω_A, v_B, ω_B) at the given transforms: the locked linear axes' rows, then the angular
 /// rows (three from the relative rotation where all angles are locked at 0, else one per locked Euler angle). Returns
-/// the number of rows (1 to 6).
+/// the number of rows (1 to 6; 0 with `rows` false: a limit row's slot alone). With `limit`, also its axis's variable
+/// and gradient: a linear axis's e_i·d and its locked row's J; an Euler angle's value and exact gradient, the rows' of
+/// b and of a, c without their cos b scale (d a/dt = m₀·(ω_A − ω_B) / cos b: unbounded at the gimbal, where the
+/// gradient is taken as 0 and the row holds nothing).
 inline int lockedPositionRows(const btTypedConstraint& c, const btTransform& transA, const btTransform& transB,
-							  btScalar* C, btScalar* jacobian)
+							  btScalar* C, btScalar* jacobian, LockedLimit* limit = nullptr, bool rows = true)
 {
 	const DofLocks k = dofLocks(c);
 	const btTransform frameA = transA * k.frameA, frameB = transB * k.frameB;
@@ -70,9 +94,8 @@ inline int lockedPositionRows(const btTypedConstraint& c, const btTransform& tra
 	const btVector3 d = pB - pA;
 	const btVector3 armA = pB - transA.getOrigin();  // d + r_A: where B's pivot is from A's centre of mass
 	const btVector3 rB = pB - transB.getOrigin();
-	int row = 0;
-	auto write = [&](const btVector3& linA, const btVector3& angA, const btVector3& linB, const btVector3& angB) {
-		btScalar* j = jacobian + 12 * row;
+	const btVector3 zero(0, 0, 0);
+	auto put = [](btScalar* j, const btVector3& linA, const btVector3& angA, const btVector3& linB, const btVector3& angB) {
 		for (int n = 0; n < 3; ++n)
 		{
 			j[n] = linA[n];
@@ -80,17 +103,26 @@ inline int lockedPositionRows(const btTypedConstraint& c, const btTransform& tra
 			j[6 + n] = linB[n];
 			j[9 + n] = angB[n];
 		}
+	};
+	int row = 0;
+	auto write = [&](const btVector3& linA, const btVector3& angA, const btVector3& linB, const btVector3& angB) {
+		put(jacobian + 12 * row, linA, angA, linB, angB);
 		++row;
 	};
-	for (int i = 0; i < 3; ++i)
+	if (limit && limit->axis < 3)
+	{
+		const btVector3 e = axes.getColumn(limit->axis);
+		limit->value = e.dot(d);
+		put(limit->gradient, -e, e.cross(armA), e, rB.cross(e));
+	}
+	for (int i = 0; i < 3 && rows; ++i)
 	{
 		if (!k.linear[i]) continue;
 		const btVector3 e = axes.getColumn(i);
 		C[row] = e.dot(d) - k.offset[i];
 		write(-e, e.cross(armA), e, rB.cross(e));
 	}
-	const btVector3 zero(0, 0, 0);
-	if (k.anglesLockedAtZero)
+	if (k.anglesLockedAtZero && rows)
 	{
 		btQuaternion a, b;
 		axes.getRotation(a);
@@ -109,7 +141,8 @@ inline int lockedPositionRows(const btTypedConstraint& c, const btTransform& tra
 		}
 		return row;
 	}
-	if (!k.anyAngle()) return row;
+	const bool angularLimit = limit && limit->axis >= 3;
+	if (!(rows && k.anyAngle()) && !angularLimit) return row;
 	// Bullet's Euler angles (a, b, c) of the frames (calculateAngleInfo) and their axes: A's z (a2), the line of nodes n,
 	// B's x (b0); the rows of a and c scaled by cos b (docs/MATH.md, "Some angles locked", where they are derived).
 	const btMatrix3x3& basisB = frameB.getBasis();
@@ -122,7 +155,15 @@ inline int lockedPositionRows(const btTypedConstraint& c, const btTransform& tra
 	else btPlaneSpace1(a2, n, unused);  // b = ±π/2: a and c are not defined, their rows' C is 0
 	const btVector3 m0 = n.cross(a2), m2 = b0.cross(n);
 	const btScalar angle[3] = {btAtan2(-a2.dot(b1), a2.dot(b2)), btAtan2(sinB, cosB), btAtan2(-a1.dot(b0), a0.dot(b0))};
-	for (int i = 0; i < 3; ++i)
+	if (angularLimit)
+	{
+		const int i = limit->axis - 3;
+		limit->value = angle[i];
+		const btVector3 g = i == 1 ? n : cosB > SIMD_EPSILON ? (i == 0 ? m0 : m2) / cosB
+															 : zero;
+		put(limit->gradient, zero, g, zero, -g);
+	}
+	for (int i = 0; i < 3 && rows; ++i)
 	{
 		if (!k.angular[i]) continue;
 		if (i == 1)

@@ -26,7 +26,7 @@ namespace stabilizer
 /// btGeneric6DofConstraint and its btGeneric6DofSpringConstraint. Both measure a locked linear axis i as frame A's
 /// axis i · (p_B − p_A) (calculateLinearInfo, whichever frame the older one's rows are built along) and lock an angle
 /// with low == high, so a weld, a slider or a ball means the same in either. A btSliderConstraint reads as the 6-dof
-/// slider it is (sliderLocks).
+/// slider it is (sliderLocks). Its limited axes (low < high) are limit rows of the locked 6-dofs (LockedRows.h).
 struct DofLocks
 {
 	bool isDof = false;                       // the constraint is one of those 6-dofs, or a btSliderConstraint
@@ -38,7 +38,11 @@ struct DofLocks
 	bool anglesLockedAtZero = false;          // all three angles locked at 0
 	bool eulerXYZ = false;                    // its angles are Bullet's XYZ Euler angles (every 6-dof but a
 											  // btGeneric6DofSpring2Constraint in another rotation order)
-	btTransform frameA, frameB;               // in A's and B's centre-of-mass frames
+	// axis i limited (low < high; Bullet's convention, low > high is free): linear 0–2 along frame A's axes (m), angular
+	// 3–5 Bullet's Euler angles (rad; only where eulerXYZ and not every angle locked at 0), between low[i] and high[i]
+	bool limited[6] = {false, false, false, false, false, false};
+	btScalar low[6] = {0, 0, 0, 0, 0, 0}, high[6] = {0, 0, 0, 0, 0, 0};
+	btTransform frameA, frameB;  // in A's and B's centre-of-mass frames
 	bool anyAngle() const { return angular[0] || angular[1] || angular[2]; }
 	bool anyLinear() const { return linear[0] || linear[1] || linear[2]; }
 };
@@ -71,6 +75,12 @@ DofLocks readDofLocks(Dof& dof)
 		k.angular[i] = angularLow[i] == angularHigh[i];
 		if (k.angular[i]) k.angles[i] = angularLow[i];
 		k.anglesLockedAtZero = k.anglesLockedAtZero && angularLow[i] == 0 && angularHigh[i] == 0;
+		k.limited[i] = linearLow[i] < linearHigh[i];
+		k.low[i] = linearLow[i];
+		k.high[i] = linearHigh[i];
+		k.limited[3 + i] = k.eulerXYZ && angularLow[i] < angularHigh[i];
+		k.low[3 + i] = angularLow[i];
+		k.high[3 + i] = angularHigh[i];
 	}
 	return k;
 }
@@ -98,6 +108,13 @@ inline DofLocks sliderLocks(btSliderConstraint& slider)
 	k.angular[0] = slider.getLowerAngLimit() == slider.getUpperAngLimit();
 	if (k.angular[0]) k.angles[0] = -slider.getLowerAngLimit();
 	k.anglesLockedAtZero = slider.getLowerAngLimit() == 0 && slider.getUpperAngLimit() == 0;
+	// its limits in the same coordinates: the slide's sign turns without useLinearReferenceFrameA, the turn's always
+	k.limited[0] = slider.getLowerLinLimit() < slider.getUpperLinLimit();
+	k.low[0] = referenceA ? slider.getLowerLinLimit() : -slider.getUpperLinLimit();
+	k.high[0] = referenceA ? slider.getUpperLinLimit() : -slider.getLowerLinLimit();
+	k.limited[3] = slider.getLowerAngLimit() < slider.getUpperAngLimit();
+	k.low[3] = -slider.getUpperAngLimit();
+	k.high[3] = -slider.getLowerAngLimit();
 	return k;
 }
 }  // namespace detail

@@ -64,7 +64,9 @@ struct SignatureEntry
 		kDofHinge = 256,        // frameHinge is a 6-dof set up as a hinge (else a stock hinge: StockHingeRows.h)
 		kDofShape0 = 512,       // … its shape (readFrameHinge: free axis, rotation order), bits 9–13
 		kLockedAngle0 = 16384,  // a locked 6-dof's angular rows (LockedRows.h, lockedAngularAxes), bits 14–16
-		kTwistSlot = 131072     // a cone twist's twist limit, a slot of its own after its pivot's (ConeTwistRows.h)
+		kLimitOnly = 131072,    // a limit row alone, in a slot of its own after its joint's: a cone twist's twist
+								// (ConeTwistRows.h), a locked 6-dof's second and further limited axes (LockedRows.h)
+		kLimitAxis0 = 262144    // a locked 6-dof's limit row: its axis (DofLocks::limited's index), bits 18–20
 	};
 	btQuaternionHingeConstraint* joint;       // a quaternion hinge, or null for a point constraint
 	btTypedConstraint* point;                 // a point constraint (projectPointConstraints: PointRows.h), or null
@@ -158,7 +160,10 @@ struct JointSlot
 {
 	btQuaternionHingeConstraint* joint;  // null for a point constraint, a locked 6-dof, a frame hinge or a contact slot
 	btTypedConstraint* point;            // a point constraint (PointRows.h), else null
-	bool twistSlot;                      // … a cone twist's twist limit row alone (its pivot and swing: the slot before)
+	bool limitOnly;                      // … a limit row alone (a cone twist's twist, a locked 6-dof's further limited
+										 // axis; the joint's own rows: the slot before)
+	int limitAxis;                       // a locked 6-dof's limit row: its axis (DofLocks::limited's index), else −1
+	bool limitLinear;                    // the limit row is a length (m; a locked 6-dof's linear axis), else an angle
 	btTypedConstraint* locked;           // a locked 6-dof (LockedRows.h), else null
 	btTypedConstraint* frameHinge;       // a stock or 6-dof hinge (StockHingeRows.h), else null
 	bool dofHinge;                       // … a 6-dof one
@@ -279,7 +284,7 @@ struct Island
 	Array<SignatureEntry> entries;                    // the scan's entries it was built from, in scan order (kept while they stay)
 	Array<JointSlot> joints;                          // in elimination order
 	int jointsOfKind[kJointKinds] = {0, 0, 0, 0, 0};  // by JointKindIndex
-	int twistSlots = 0;                               // cone twists' twist slots (JointSlot::twistSlot): not joints of their own
+	int limitOnlySlots = 0;                           // slots of a limit row alone (JointSlot::limitOnly): not joints of their own
 	Array<ContactSet> contacts;                       // the contact slots' points this step (projectContacts), by JointSlot::contact
 	bool generalLinear = false;                       // some slot's J has a general linear part (JointSlot::generalLinear())
 	BlockPattern pattern;

@@ -236,7 +236,7 @@ const btQuaternionHingeStabilizerStats& btQuaternionHingeStabilizer::stabilize(b
 			if (r.solves == r.iterations) ++m_stats.velocitiesWithinTolerance;
 		}
 		if (island.useSparse) ++m_stats.sparseIslands;
-		m_stats.joints += int(island.joints.size()) - island.twistSlots;
+		m_stats.joints += int(island.joints.size()) - island.limitOnlySlots;
 		m_stats.quaternionHinges += island.jointsOfKind[kQuaternionHinges];
 		m_stats.stockHinges += island.jointsOfKind[kStockHinges];
 		m_stats.dofHinges += island.jointsOfKind[kDofHinges];

@@ -1,6 +1,6 @@
 // A scene with sliders (SceneSpec::sliders: Bullet's Panda, its fingers on 6-dof sliders) run at 60 Hz, 10 iterations,
-// with the stabilizer's settings given: the largest distance of a slider's child off its slide line and the largest
-// hinge separation (m) after any step. For the stabilizer test files built with the scene library.
+// with the stabilizer's settings given: the largest distance of a slider's child off its slide line, the farthest past
+// its limits, and the largest hinge separation (m) after any step. For the stabilizer test files built with the scene library.
 #ifndef QUATHINGE_TEST_SLIDER_RUNS_H
 #define QUATHINGE_TEST_SLIDER_RUNS_H
 
@@ -16,8 +16,9 @@ namespace qh_test
 {
 struct SliderRunErrors
 {
-	double sliders = 0;  // m
-	double hinges = 0;   // m
+	double sliders = 0;      // m
+	double hinges = 0;       // m
+	double slidersPast = 0;  // m: the farthest a slider's child is past its limits along the slide
 };
 
 inline SliderRunErrors runWithSliders(const quathinge::scenes::SceneSpec& scene, quathinge::scenes::Kind kind,
@@ -30,7 +31,19 @@ inline SliderRunErrors runWithSliders(const quathinge::scenes::SceneSpec& scene,
 	for (int i = 0; i < steps; ++i)
 	{
 		sim.step(1.0 / 60, 10);
-		for (const MeasuredJoint& s : sim.sliders) worst.sliders = std::max(worst.sliders, measureSliderSeparation(s));
+		for (size_t k = 0; k < sim.sliders.size(); ++k)
+		{
+			const MeasuredJoint& s = sim.sliders[k];
+			worst.sliders = std::max(worst.sliders, measureSliderSeparation(s));
+			const SliderSpec& spec = scene.sliders[k];
+			if (!spec.hasLimit) continue;
+			// the slide: frame A's x · (p_B − p_A), from the joint's start
+			const btVector3 pa = s.a->getCenterOfMassTransform() * s.frameA.getOrigin();
+			const btVector3 pb = s.b->getCenterOfMassTransform() * s.frameB.getOrigin();
+			const btVector3 xa = s.a->getCenterOfMassTransform().getBasis() * s.frameA.getBasis().getColumn(0);
+			const double x = double((pb - pa).dot(xa));
+			worst.slidersPast = std::max({worst.slidersPast, double(spec.lower) - x, x - double(spec.upper)});
+		}
 		for (const MeasuredJoint& j : sim.joints) worst.hinges = std::max(worst.hinges, measureJointError(j).separation);
 	}
 	return worst;

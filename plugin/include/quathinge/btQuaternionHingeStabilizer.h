@@ -59,7 +59,8 @@ struct btQuaternionHingeStabilizerSettings
 	bool projectPositions = true;
 	/// Project the velocities (Q14) after the positions.
 	bool projectVelocities = true;
-	/// Project violated limits (the limit row, as an inequality; a cone twist's too with projectConeTwistLimits).
+	/// Project violated limits (the limit row, as an inequality; a cone twist's too with projectConeTwistLimits; a
+	/// locked 6-dof's limited axes with projectLockedConstraints).
 	/// Off: only the bilateral rows.
 	bool projectLimits = true;
 	/// Also project the hinges an app already has, with no class swapped (docs/STABILIZED_JOINTS.md): stock
@@ -102,8 +103,10 @@ struct btQuaternionHingeStabilizerSettings
 	/// the relative rotation (docs/MATH.md, "Locked 6-dofs"). Also the 6-dofs with some of their Euler angles locked
 	/// (at any value; Bullet's XYZ order, every btGeneric6DofConstraint's): a universal joint (btUniversalConstraint), a
 	/// btHinge2Constraint, a cylindrical joint (a btSliderConstraint free to turn about its axis, or a 6-dof so set),
-	/// one row per locked linear axis and per locked angle (MATH.md, "Some angles locked"). A free or limited axis's
-	/// limits, springs and motors are Bullet's alone. A
+	/// one row per locked linear axis and per locked angle (MATH.md, "Some angles locked"). With projectLimits, each
+	/// limited axis (low < high: a slider's stops, a universal joint's angles, a hinge-2's steering) is a limit row too,
+	/// acting past its stops only (MATH.md, "Limited axes of a locked 6-dof"; angles in Bullet's XYZ order only). Springs
+	/// and motors are Bullet's alone. A
 	/// gripper's fingers on their slides then hold with the arm (Bullet's Panda in float: 7.8e-7 m off their slide
 	/// lines, against 1.1e-2 m without the stabilizer and 5.3e-2 m with it and this off), and a slider inside a chain
 	/// no longer keeps the error Bullet's solver left it while the hinges around it are closed. The host shares the
