@@ -8,7 +8,11 @@
 #include "LockedRows.h"
 #include "support/RandomPoses.h"
 #include "support/RowDerivatives.h"
+#include "support/LockedDofError.h"
 #include "support/StabilizerScene.h"
+
+#include "BulletDynamics/ConstraintSolver/btHinge2Constraint.h"
+#include "BulletDynamics/ConstraintSolver/btUniversalConstraint.h"
 
 #include <gtest/gtest.h>
 
@@ -225,6 +229,73 @@ TEST(StabilizerDofLimits, ASlidersLimitsMeanWhatBulletMeasures)
 				<< label;
 		}
 	}
+}
+
+namespace
+{
+// Two links released horizontally at 2 m: the first on a btUniversalConstraint to a static body, both its angles
+// limited to ±0.3 rad; the second on a btHinge2Constraint, its steering within ±π/4 (Bullet's default) and spun about
+// its axle. Gravity swings both past their angle limits at once.
+struct LimitedAngles
+{
+	StabilizerScene scene;
+	btUniversalConstraint* universal;
+	btHinge2Constraint* hinge2;
+	LimitedAngles()
+	{
+		const btScalar link(0.5);
+		btRigidBody* anchor = scene.box(btVector3(btScalar(0.05), btScalar(0.05), btScalar(0.05)), 0, btVector3(0, 2, 0));
+		btRigidBody* first = scene.box(btVector3(link / 2, btScalar(0.05), btScalar(0.05)), 1, btVector3(link / 2, 2, 0));
+		btRigidBody* second =
+			scene.box(btVector3(link / 2, btScalar(0.05), btScalar(0.05)), 1, btVector3(link * btScalar(1.5), 2, 0));
+		universal = new btUniversalConstraint(*anchor, *first, btVector3(0, 2, 0), btVector3(0, 0, 1), btVector3(0, 1, 0));
+		universal->setLowerLimit(btScalar(-0.3), btScalar(-0.3));
+		universal->setUpperLimit(btScalar(0.3), btScalar(0.3));
+		scene.addConstraint(universal);
+		btVector3 pivot(link, 2, 0), axis1(0, 1, 0), axis2(1, 0, 0);
+		hinge2 = new btHinge2Constraint(*first, *second, pivot, axis1, axis2);
+		scene.addConstraint(hinge2);
+		second->setAngularVelocity(btVector3(3, 0, 0));
+	}
+	// Steps 2 s: the largest error of the locked axes and how far past a limit, as the joints read them (m, rad).
+	void run(double& distance, double& angle, double& pastDistance, double& pastAngle)
+	{
+		distance = angle = pastDistance = pastAngle = 0;
+		for (int i = 0; i < 120; ++i)
+		{
+			scene.world().stepSimulation(kTimeStep, 0);
+			lockedDofError(static_cast<btGeneric6DofConstraint&>(*universal), distance, angle);
+			lockedDofError(static_cast<btGeneric6DofSpring2Constraint&>(*hinge2), distance, angle);
+			limitedDofPast(static_cast<btGeneric6DofConstraint&>(*universal), pastDistance, pastAngle);
+			limitedDofPast(static_cast<btGeneric6DofSpring2Constraint&>(*hinge2), pastDistance, pastAngle);
+		}
+	}
+};
+}  // namespace
+
+TEST(StabilizerDofLimits, UniversalAndHinge2AnglesStayWithinTheirLimits)
+{
+	// With the defaults the universal joint's two limited angles and the hinge-2's steering are limit rows (Euler
+	// angles y and z: the rates of LockedRows.h, y's bounded, z's over cos y); Bullet's own getAngle is the reference.
+	LimitedAngles bare, held;
+	btQuaternionHingeStabilizer stabilizer;
+	held.scene.addAction(&stabilizer);
+	double bareDistance, bareAngle, barePast, barePastAngle, distance, angle, past, pastAngle;
+	bare.run(bareDistance, bareAngle, barePast, barePastAngle);
+	held.run(distance, angle, past, pastAngle);
+	std::printf(
+		"[ figures  ] universal joint and hinge-2 with limited angles, 2 s: stabilized %.2e m %.2e rad, past a "
+		"limit %.2e m %.2e rad; bare %.2e m %.2e rad, past %.2e m %.2e rad\n",
+		distance, angle, past, pastAngle, bareDistance, bareAngle, barePast, barePastAngle);
+	EXPECT_LE(pastAngle, 1e-3);  // rad: the issue's target past a stop
+	EXPECT_LE(past, 1e-3);       // m: the hinge-2's suspension
+	EXPECT_LE(distance, kSeparationTolerance);
+	EXPECT_LE(angle, 10 * kSeparationTolerance);  // rad: float's rounding of the angles read from the frames
+	EXPECT_GT(barePastAngle, 10 * pastAngle);     // Bullet's solver alone leaves them past
+	EXPECT_EQ(stabilizer.getLastStats().lockedConstraints, 2);
+	EXPECT_EQ(stabilizer.getLastStats().joints, 2);  // the further limit slots are not joints of their own
+	EXPECT_EQ(stabilizer.getLastStats().numericalIssues, 0);
+	ASSERT_TRUE(held.scene.allFinite());
 }
 
 #if defined(QUATHINGE_HAVE_SCENES) && defined(QUATHINGE_HAVE_URDF)  // panda.urdf (urdfdom is optional)
