@@ -130,5 +130,13 @@ TEST(StabilizerRagdollDemo, APileOfTwentyOnACollisionObjectGround)
 	const auto figures = check(RagdollGround::CollisionObject, 20);
 	checkConeLimits(20, figures.first, figures.second);
 }
-TEST(StabilizerRagdollDemo, APileOfTwentyOnARigidBodyGround) { check(RagdollGround::StaticBody, 20); }
+TEST(StabilizerRagdollDemo, APileOfTwentyOnARigidBodyGround)
+{
+#ifdef QUATHINGE_SANITIZED_TESTS
+	// the same projection and contact code as the pile on the btCollisionObject ground above, which the sanitizer build
+	// runs (the normal builds run both, with the same figures); under ASan + UBSan each pile takes over two minutes
+	GTEST_SKIP() << "the sanitizer build runs the pile on the btCollisionObject ground only";
+#endif
+	check(RagdollGround::StaticBody, 20);
+}
 #endif

@@ -12,9 +12,10 @@
 
 namespace qh_test
 {
-/// Raises `distance` (m) and `angle` (rad) to the largest error of c's locked linear axes and angles, now.
-template <class Dof>
-void lockedDofError(Dof& c, double& distance, double& angle)
+/// Calls f(position, angle, low, high, angularLow, angularHigh) for each axis k of c, with c's own reading now
+/// (getRelativePivotPosition, getAngle: m, rad) and its limits.
+template <class Dof, class F>
+void forEachDofAxis(Dof& c, F f)
 {
 	c.calculateTransforms();
 	btVector3 low, high, angularLow, angularHigh;
@@ -23,29 +24,28 @@ void lockedDofError(Dof& c, double& distance, double& angle)
 	c.getAngularLowerLimit(angularLow);
 	c.getAngularUpperLimit(angularHigh);
 	for (int k = 0; k < 3; ++k)
-	{
-		if (low[k] == high[k]) distance = std::max(distance, std::fabs(double(c.getRelativePivotPosition(k) - low[k])));
-		if (angularLow[k] == angularHigh[k]) angle = std::max(angle, std::fabs(double(c.getAngle(k) - angularLow[k])));
-	}
+		f(double(c.getRelativePivotPosition(k)), double(c.getAngle(k)), double(low[k]), double(high[k]),
+		  double(angularLow[k]), double(angularHigh[k]));
+}
+
+/// Raises `distance` (m) and `angle` (rad) to the largest error of c's locked linear axes and angles, now.
+template <class Dof>
+void lockedDofError(Dof& c, double& distance, double& angle)
+{
+	forEachDofAxis(c, [&](double x, double a, double low, double high, double angularLow, double angularHigh) {
+		if (low == high) distance = std::max(distance, std::fabs(x - low));
+		if (angularLow == angularHigh) angle = std::max(angle, std::fabs(a - angularLow));
+	});
 }
 
 /// Raises `distance` (m) and `angle` (rad) to how far c's limited axes (low < high) are past their limits, now.
 template <class Dof>
 void limitedDofPast(Dof& c, double& distance, double& angle)
 {
-	c.calculateTransforms();
-	btVector3 low, high, angularLow, angularHigh;
-	c.getLinearLowerLimit(low);
-	c.getLinearUpperLimit(high);
-	c.getAngularLowerLimit(angularLow);
-	c.getAngularUpperLimit(angularHigh);
-	for (int k = 0; k < 3; ++k)
-	{
-		const double x = double(c.getRelativePivotPosition(k)), a = double(c.getAngle(k));
-		if (low[k] < high[k]) distance = std::max({distance, double(low[k]) - x, x - double(high[k])});
-		if (angularLow[k] < angularHigh[k])
-			angle = std::max({angle, double(angularLow[k]) - a, a - double(angularHigh[k])});
-	}
+	forEachDofAxis(c, [&](double x, double a, double low, double high, double angularLow, double angularHigh) {
+		if (low < high) distance = std::max({distance, low - x, x - high});
+		if (angularLow < angularHigh) angle = std::max({angle, angularLow - a, a - angularHigh});
+	});
 }
 }  // namespace qh_test
 
