@@ -1,6 +1,6 @@
 // The rows of a locked 6-dof (btQuaternionHingeStabilizerSettings::projectLockedConstraints): a
 // btGeneric6DofSpring2Constraint, btGeneric6DofConstraint or btGeneric6DofSpringConstraint with any mix of locked axes
-// but a ball's. Chiefly one whose three angles are locked at 0: a slider (one or two linear axes free, as pybullet and
+// but a free ball's (a ball with its angles limited is one). Chiefly one whose three angles are locked at 0: a slider (one or two linear axes free, as pybullet and
 // the URDF scenes build a prismatic joint; a btSliderConstraint with its turn locked at 0, Bullet's default) or a weld
 // (all six locked; btFixedConstraint); then one with some of its Euler angles locked: a universal joint
 // (btUniversalConstraint), a btHinge2Constraint, a cylindrical joint (a btSliderConstraint free to turn). Both 6-dof
@@ -38,14 +38,17 @@ namespace quathinge
 namespace stabilizer
 {
 /// A 6-dof the locked rows hold (`locks`: its dofLocks): its three angles locked at 0 (a slider, a weld), or any other
-/// mix of locked axes but a ball's (its three linear axes alone: a point constraint, PointRows.h), locked angles only
-/// where they are Bullet's XYZ Euler angles (a universal joint, a btHinge2Constraint, a cylindrical joint).
+/// mix of locked axes but a free ball's (its three linear axes alone: a point constraint, PointRows.h), locked angles
+/// only where they are Bullet's XYZ Euler angles (a universal joint, a btHinge2Constraint, a cylindrical joint). A
+/// ball whose angles are limited (as Bullet's GenericJointDemo ragdoll builds its shoulders and hips; XYZ order) is
+/// held here too: its three linear rows and its angles' limit rows.
 inline bool hasLockedRows(const DofLocks& locks)
 {
 	if (!locks.isDof) return false;
 	if (locks.anglesLockedAtZero) return true;
 	if (locks.anyAngle()) return locks.eulerXYZ;
-	return locks.anyLinear() && !locks.allLinear;
+	if (locks.allLinear) return locks.limited[3] || locks.limited[4] || locks.limited[5];
+	return locks.anyLinear();
 }
 
 /// Its locked linear axes as bits (bit i: axis i of frame A).

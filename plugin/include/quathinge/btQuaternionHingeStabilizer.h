@@ -82,8 +82,8 @@ struct btQuaternionHingeStabilizerSettings
 	/// three point rows, unless angular-only; its swing and twist limits with projectConeTwistLimits) and
 	/// a 6-dof (btGeneric6DofSpring2Constraint, btGeneric6DofConstraint, btGeneric6DofSpringConstraint) with its three
 	/// linear axes locked (low == high; a ball built from a 6-dof, its pivot moved by the locked values; its angles are
-	/// not projected: a 6-dof with some angle locked as well, a universal joint or a hinge, is a locked 6-dof while
-	/// projectLockedConstraints is on, a point only without it), in the same islands as the quaternion hinges: a ragdoll of
+	/// not projected: a 6-dof with some angle locked or limited as well, a universal joint, a hinge or a ball with its
+	/// angles limited, is a locked 6-dof while projectLockedConstraints is on, a point only without it), in the same islands as the quaternion hinges: a ragdoll of
 	/// hinges and cone twists then holds together at every joint. They go through the filter as well. On by default;
 	/// off: not seen (getLastStats().skippedByOption counts them).
 	bool projectPointConstraints = true;
