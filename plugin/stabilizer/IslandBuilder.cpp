@@ -393,7 +393,6 @@ std::unique_ptr<Island> buildOne(const Array<SignatureEntry>& entries, bool forc
 		slot.limitSlot = (e.flags & SignatureEntry::kLimitSlot) != 0;
 		slot.rows = slot.bilateralRows + (slot.limitSlot ? 1 : 0);
 		slot.limitAxis = e.locked && slot.limitSlot ? int((e.flags / SignatureEntry::kLimitAxis0) & 7) : -1;
-		slot.limitLinear = slot.limitAxis >= 0 && slot.limitAxis < 3;
 		slot.contactTouched = slot.contactReleased = slot.contactActiveInFactor = 0;
 		if (e.flags & SignatureEntry::kContact)
 		{

@@ -172,9 +172,9 @@ PositionResidual evaluatePositions(BlockIsland<R>& island, btScalar tolerance)
 		jb.c[r] = js.limitActive ? js.angle - stop : 0;
 		if (js.limitActive) jb.jacobian.row(r) = js.limitGradient;
 		else jb.jacobian.row(r).setZero();
-		btScalar& worst = js.limitLinear ? res.linear : res.angular;  // a locked 6-dof's linear axis: a length
+		btScalar& worst = js.limitLinear() ? res.linear : res.angular;  // a locked 6-dof's linear axis: a length
 		worst = btMax(worst, btFabs(btScalar(jb.c[r])));
-		res.normalized = btMax(res.normalized, btFabs(btScalar(jb.c[r])) / (js.limitLinear ? linearThreshold : angularThreshold));
+		res.normalized = btMax(res.normalized, btFabs(btScalar(jb.c[r])) / (js.limitLinear() ? linearThreshold : angularThreshold));
 		if (js.limitActive != js.limitActiveInFactor) res.limitsChanged = true;
 	}
 	return res;
@@ -252,7 +252,7 @@ VelocityResidual evaluateVelocities(BlockIsland<R>& island, bool decideLimits, b
 		for (int r = 0; r < js.rows; ++r)
 		{
 			const btScalar value = btFabs(btScalar(jb.jv[r]));
-			const bool linear = r < linearRows || (r == js.bilateralRows && js.limitLinear);
+			const bool linear = r < linearRows || (r == js.bilateralRows && js.limitLinear());
 			const btScalar threshold = (linear ? js.linearThreshold : js.angularThreshold) / timeStep;
 			res.max = btMax(res.max, value);
 			res.normalized = btMax(res.normalized, value / btMax(threshold, floor));

@@ -163,12 +163,13 @@ struct JointSlot
 	bool limitOnly;                      // … a limit row alone (a cone twist's twist, a locked 6-dof's further limited
 										 // axis; the joint's own rows: the slot before)
 	int limitAxis;                       // a locked 6-dof's limit row: its axis (DofLocks::limited's index), else −1
-	bool limitLinear;                    // the limit row is a length (m; a locked 6-dof's linear axis), else an angle
-	btTypedConstraint* locked;           // a locked 6-dof (LockedRows.h), else null
-	btTypedConstraint* frameHinge;       // a stock or 6-dof hinge (StockHingeRows.h), else null
-	bool dofHinge;                       // … a 6-dof one
-	FrameHinge hinge;                    // its frames and limit, read at the step's start (readAngleReferences)
-	int contact;                         // a contact slot: its index in Island::contacts, else −1
+	// the limit row is a length (m; a locked 6-dof's linear axis), else an angle
+	bool limitLinear() const { return limitAxis >= 0 && limitAxis < 3; }
+	btTypedConstraint* locked;      // a locked 6-dof (LockedRows.h), else null
+	btTypedConstraint* frameHinge;  // a stock or 6-dof hinge (StockHingeRows.h), else null
+	bool dofHinge;                  // … a 6-dof one
+	FrameHinge hinge;               // its frames and limit, read at the step's start (readAngleReferences)
+	int contact;                    // a contact slot: its index in Island::contacts, else −1
 	// J's linear part is general (a contact slot's n per row, a locked 6-dof's frame-A axes), not linearSign·I:
 	// written with the rows at every evaluation, and taken by the general products (IslandSystem.h)
 	bool generalLinear() const { return contact >= 0 || locked != nullptr; }
