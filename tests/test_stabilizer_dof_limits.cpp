@@ -32,15 +32,6 @@ namespace qs = quathinge::stabilizer;
 
 namespace
 {
-// btGeneric6DofSpring2Constraint has no useLinearReferenceFrameA: the factory the configurations share.
-struct Dof2 : btGeneric6DofSpring2Constraint
-{
-	Dof2(btRigidBody& a, btRigidBody& b, const btTransform& fa, const btTransform& fb, bool)
-		: btGeneric6DofSpring2Constraint(a, b, fa, fb)
-	{
-	}
-};
-
 // A random 6-dof of class Dof: one Euler angle locked (n % 3) so the locked rows hold it, the other two limited;
 // linear axes locked (bits of n / 3 % 8) or limited; limits of up to ±0.3 m and ±1.2 rad around random centres. Its
 // bodies' transforms with B's frame within `reach` rad and 0.4 m of A's.

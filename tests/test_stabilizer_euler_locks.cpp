@@ -77,15 +77,6 @@ struct Configuration
 	}
 };
 
-// btGeneric6DofSpring2Constraint has no useLinearReferenceFrameA: the factory the configurations share.
-struct Dof2 : btGeneric6DofSpring2Constraint
-{
-	Dof2(btRigidBody& a, btRigidBody& b, const btTransform& fa, const btTransform& fb, bool)
-		: btGeneric6DofSpring2Constraint(a, b, fa, fb)
-	{
-	}
-};
-
 template <class Dof>
 void checkDerivatives(unsigned seed, const char* family)
 {

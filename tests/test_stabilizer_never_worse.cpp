@@ -72,12 +72,7 @@ Errors measure(Simulation& sim)
 		e.separation.push_back(measureSliderSeparation(s));
 		e.resolution.push_back(pivotResolution(s));
 		if (!s.hasLimit) continue;
-		// how far its child is past the slide's limits (frame A's x · (p_B − p_A))
-		const btVector3 xa = s.a->getCenterOfMassTransform().getBasis() * s.frameA.getBasis().getColumn(0);
-		const btVector3 d = s.b->getCenterOfMassTransform() * s.frameB.getOrigin() -
-							s.a->getCenterOfMassTransform() * s.frameA.getOrigin();
-		const double x = double(d.dot(xa));
-		e.separation.push_back(std::max({0.0, s.lower - x, x - s.upper}));
+		e.separation.push_back(measureSliderPastLimits(s));
 		e.resolution.push_back(pivotResolution(s));
 	}
 	btDispatcher& d = *sim.world().getDispatcher();

@@ -70,13 +70,30 @@ JointError measureJointError(const MeasuredJoint& j)
 	return {double((pb - pa).length()), std::atan2(double(za.cross(zb).length()), double(za.dot(zb))) * 180.0 / M_PI};
 }
 
+namespace
+{
+// A slider's child's joint origin relative to the parent's (d = p_B − p_A) and the slide, frame A's x axis (world).
+void sliderFrames(const MeasuredJoint& j, btVector3& d, btVector3& xa)
+{
+	d = j.b->getCenterOfMassTransform() * j.frameB.getOrigin() - j.a->getCenterOfMassTransform() * j.frameA.getOrigin();
+	xa = j.a->getCenterOfMassTransform().getBasis() * j.frameA.getBasis().getColumn(0);
+}
+}  // namespace
+
 double measureSliderSeparation(const MeasuredJoint& j)
 {
-	const btVector3 pa = j.a->getCenterOfMassTransform() * j.frameA.getOrigin();
-	const btVector3 pb = j.b->getCenterOfMassTransform() * j.frameB.getOrigin();
-	const btVector3 xa = j.a->getCenterOfMassTransform().getBasis() * j.frameA.getBasis().getColumn(0);
-	const btVector3 d = pb - pa;
+	btVector3 d, xa;
+	sliderFrames(j, d, xa);
 	return double((d - d.dot(xa) * xa).length());
+}
+
+double measureSliderPastLimits(const MeasuredJoint& j)
+{
+	if (!j.hasLimit) return 0;
+	btVector3 d, xa;
+	sliderFrames(j, d, xa);
+	const double x = double(d.dot(xa));
+	return std::max({0.0, j.lower - x, x - j.upper});
 }
 
 Metrics runScene(const SceneSpec& scene, Kind kind, const RunSettings& settings)

@@ -68,6 +68,9 @@ struct JointErrorStats
 /// A slider's (SceneSpec::sliders) error now: the distance (m) of the child's joint origin from the parent's slide
 /// line (the frames' x axis), the direction a prismatic joint leaves free excluded.
 double measureSliderSeparation(const MeasuredJoint& j);
+/// How far (m) a slider's child is past its limits (MeasuredJoint::lower, upper) along the slide, frame A's x ·
+/// (p_B − p_A); 0 within them or without a limit.
+double measureSliderPastLimits(const MeasuredJoint& j);
 
 /// Updates j.theta from the joint's frames (Simulation.cpp): at the start, and every step for runScene's limit figures.
 void trackTheta(MeasuredJoint& j);

@@ -1,7 +1,7 @@
 // A 6-dof's error as Bullet's own 6-dof reads it (calculateTransforms: getRelativePivotPosition, frame A's axes ·
 // (p_B − p_A), and getAngle, its Euler angles), against each locked axis's value (low == high): the stabilizer tests'
 // independent measure of how well a locked 6-dof holds (test_stabilizer_locked.cpp, test_stabilizer_euler_locks.cpp),
-// and of how far its limited axes are past their limits.
+// and of how far its limited axes are past their limits; and Dof2, the tests' btGeneric6DofSpring2Constraint factory.
 #ifndef QUATHINGE_TESTS_LOCKED_DOF_ERROR_H
 #define QUATHINGE_TESTS_LOCKED_DOF_ERROR_H
 
@@ -47,6 +47,16 @@ void limitedDofPast(Dof& c, double& distance, double& angle)
 		if (angularLow < angularHigh) angle = std::max({angle, angularLow - a, a - angularHigh});
 	});
 }
+
+/// A btGeneric6DofSpring2Constraint made as a btGeneric6DofConstraint is (it has no useLinearReferenceFrameA): one
+/// constructor for the tests' random 6-dofs of either family (test_stabilizer_euler_locks.cpp, _dof_limits.cpp).
+struct Dof2 : btGeneric6DofSpring2Constraint
+{
+	Dof2(btRigidBody& a, btRigidBody& b, const btTransform& fa, const btTransform& fb, bool)
+		: btGeneric6DofSpring2Constraint(a, b, fa, fb)
+	{
+	}
+};
 }  // namespace qh_test
 
 #endif

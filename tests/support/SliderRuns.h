@@ -31,18 +31,10 @@ inline SliderRunErrors runWithSliders(const quathinge::scenes::SceneSpec& scene,
 	for (int i = 0; i < steps; ++i)
 	{
 		sim.step(1.0 / 60, 10);
-		for (size_t k = 0; k < sim.sliders.size(); ++k)
+		for (const MeasuredJoint& s : sim.sliders)
 		{
-			const MeasuredJoint& s = sim.sliders[k];
 			worst.sliders = std::max(worst.sliders, measureSliderSeparation(s));
-			const SliderSpec& spec = scene.sliders[k];
-			if (!spec.hasLimit) continue;
-			// the slide: frame A's x · (p_B − p_A), from the joint's start
-			const btVector3 pa = s.a->getCenterOfMassTransform() * s.frameA.getOrigin();
-			const btVector3 pb = s.b->getCenterOfMassTransform() * s.frameB.getOrigin();
-			const btVector3 xa = s.a->getCenterOfMassTransform().getBasis() * s.frameA.getBasis().getColumn(0);
-			const double x = double((pb - pa).dot(xa));
-			worst.slidersPast = std::max({worst.slidersPast, double(spec.lower) - x, x - double(spec.upper)});
+			worst.slidersPast = std::max(worst.slidersPast, measureSliderPastLimits(s));
 		}
 		for (const MeasuredJoint& j : sim.joints) worst.hinges = std::max(worst.hinges, measureJointError(j).separation);
 	}
