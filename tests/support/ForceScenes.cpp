@@ -84,6 +84,7 @@ ForceRecord runForceChain(const ForceChain& chain, const ForceHooks& hooks, Forc
 			scene.box(half, mass, btVector3(0, btScalar(kPivotY), 0) + along * btScalar(kLength * (i + 0.5)));
 		link->setDamping(btScalar(chain.damping), btScalar(chain.damping));
 		link->setSleepingThresholds(0, 0);
+		if (!chain.gyroscopic) link->setFlags(link->getFlags() & ~BT_ENABLE_GYROSCOPIC_FORCE_IMPLICIT_BODY);
 		const btVector3 axis = chain.planar || i % 2 == 0 ? btVector3(0, 0, 1) : second;
 		const btVector3 pivotA = along * btScalar(kLength / 2), pivotB = -pivotA;
 		btRigidBody* previous = i > 0 ? links.back() : anchor;

@@ -32,6 +32,7 @@ struct ForceChain
 	bool kinematic = false;  // the anchor is a kinematic body the scene moves
 	double damping = 0;      // linear and angular damping of every link
 	double gravity = 10;     // m/s² along −y
+	bool gyroscopic = true;  // Bullet's implicit gyroscopic step on every link (its default), else the flag cleared
 };
 
 /// One run's record: the energy after every step (J; kinetic + gravity's potential above the chain's lowest reach,
