@@ -78,17 +78,11 @@ void setPose(IslandBody& b, const btTransform& t)
 void saveTransforms(Island& island)
 {
 	for (IslandBody& b : island.bodies) b.saved = b.rigid->getCenterOfMassTransform();
-	for (JointSlot& js : island.joints) js.savedLimitTouched = js.limitTouched;
 }
 
 void restoreTransforms(Island& island)
 {
 	for (IslandBody& b : island.bodies) setPose(b, b.saved);
-	// The stops the undone step brought into the system go with it: held at the restored pose, a limit row entered
-	// past its stop there would pull the joint to the stop (an equation, not a push). A stop violated at the restored
-	// pose enters again when it is evaluated. (Contact rows stay: one that pulls is taken out by its λ,
-	// IslandContacts.h.)
-	for (JointSlot& js : island.joints) js.limitTouched = js.savedLimitTouched;
 	island.inverseMassesStale = true;
 }
 

@@ -15,8 +15,7 @@ void loadInverseMasses(Island& island);
 /// The heaviest body's mass and largest principal inertia: the stiff metric's reference.
 void findReferenceMass(Island& island);
 
-/// Keeps every body's transform (IslandBody::saved) and the stops in the system for backtracking;
-/// restoreTransforms puts them back.
+/// Keeps every body's transform (IslandBody::saved) for backtracking; restoreTransforms puts them back.
 void saveTransforms(Island& island);
 void restoreTransforms(Island& island);
 /// Applies step × the deltas as a position correction; returns the largest |Δx|∞ or |Δθ|∞ (m or rad).

@@ -416,7 +416,7 @@ std::unique_ptr<Island> buildOne(const Array<SignatureEntry>& entries, bool forc
 		if (slot.limitOnly) ++island.limitOnlySlots;               // its joint's
 		else if (kind != kJointKinds) ++island.jointsOfKind[kind];
 		slot.limitActive = slot.limitActiveInFactor = false;
-		slot.limitTouched = slot.savedLimitTouched = 0;
+		slot.limitTouched = 0;
 		slot.held = false;
 		slot.heldRate = 0;
 		slot.linearThreshold = slot.angularThreshold = 0;

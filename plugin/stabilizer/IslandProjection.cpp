@@ -253,10 +253,7 @@ struct IslandStep
 		if (settings.positions)
 		{
 			bool chordStalled = false;
-			// Steps that brought a stop or contact into the system (kept below) are not counted against maxIterations:
-			// the active set only grows within a step, and at most maxIterations of them go uncounted.
-			int growthSteps = 0;
-			while (res.normalized > 1 && result.iterations - growthSteps < settings.maxIterations)
+			while (res.normalized > 1 && result.iterations < settings.maxIterations)
 			{
 				const bool factorNow = chordStalled || factorAge > kChordAge || res.limitsChanged;
 				if (factorNow)
@@ -288,11 +285,7 @@ struct IslandStep
 				// at the new stop, while one that grows it more has left the linearization behind (a ragdoll's contact rows
 				// with a nearly singular K, double: a first step from 0.09 to 22 m; kept, Newton then converged to a pose
 				// with a leg 0.56 m into the ground); it is halved and undone as any step that makes ‖C‖ worse.
-				if (res.limitsChanged && res.normalized <= kActiveSetGrowth * start.normalized)
-				{
-					growthSteps = std::min(growthSteps + 1, settings.maxIterations);
-					continue;
-				}
+				if (res.limitsChanged && res.normalized <= kActiveSetGrowth * start.normalized) continue;
 				// Backtracking: a step that makes ‖C‖ worse (far from the solution in a nearly singular pose, e.g. a taut
 				// chain, the linearization overshoots) is halved, at most kMaxHalvings times, else undone.
 				for (int halving = 0; res.normalized >= start.normalized && halving < kMaxHalvings; ++halving)

@@ -194,7 +194,6 @@ struct JointSlot
 	unsigned contactTouched;                     // a contact slot: bit r set once row r penetrated this step (then in the system)
 	unsigned contactReleased;                    // … and bit r once row r pulled (λ < 0) and was taken out for the rest of the step
 	unsigned contactActiveInFactor;              // … as it was when K was last factorized
-	int savedLimitTouched;                       // limitTouched at the pose before the last Newton step (restored with it)
 	btScalar linearThreshold;                    // converged |C| of the linear rows (m): max(tolerance, their rounding floor)
 	btScalar angularThreshold;                   // … of the angular and limit rows (rad)
 	Eigen::Matrix<double, 1, 12> limitGradient;  // ∂α/∂(v_A, ω_A, v_B, ω_B) at the last evaluation
