@@ -417,6 +417,7 @@ std::unique_ptr<Island> buildOne(const Array<SignatureEntry>& entries, bool forc
 		else if (kind != kJointKinds) ++island.jointsOfKind[kind];
 		slot.limitActive = slot.limitActiveInFactor = false;
 		slot.limitTouched = 0;
+		slot.limitReleased = false;
 		slot.held = false;
 		slot.heldRate = 0;
 		slot.linearThreshold = slot.angularThreshold = 0;

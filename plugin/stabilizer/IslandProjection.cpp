@@ -30,8 +30,9 @@
 // threshold over the time step (what it would drift in the next step), or J v's own floor 4ε·(|v| + |ω|·1 m).
 //
 // The limit row (one slot per joint with a limit): α is the multi-turn angle, J_α = ±σ R_A t its exact gradient
-// (HingeAngle.h). Position stage: once α is found past a stop in this step, the row is the equation α = stop for the
-// rest of the step (an active set that only grows within a step: fewer refactorizations, no flip-flopping).
+// (HingeAngle.h). Position stage: once α is found past a stop in this step, the row is the equation α = stop, until a
+// solve's λ pulls while the joint is inside the stop (docs/MATH.md, "One-sided rows in Q13"; releasePullingLimits):
+// then it is out, and back only if an accepted step crosses the stop again, for the rest of the step.
 // Velocity stage: α̇ = 0 only if the stop was violated this step and α̇ still points past it (decided once, before
 // the first solve); a limit row K has and the velocities leave out is taken out by solves with K's factors
 // (IslandSystem.h, solveDeltasWithoutDroppedRows), not by a new factorization. A Newton step that takes a joint past
@@ -115,6 +116,7 @@ struct IslandStep
 		for (JointSlot& js : island.joints)
 		{
 			js.limitTouched = 0;
+			js.limitReleased = false;
 			js.limitActive = js.limitActiveInFactor = false;  // js.angleReference: readAngleReferences
 			js.contactTouched = js.contactReleased = js.contactActiveInFactor = 0;
 		}
@@ -230,6 +232,61 @@ struct IslandStep
 					if ((island.joints[j].contactTouched & (1u << r)) && island.lambda[j][r] < 0) return true;
 		return false;
 	}
+	// The position stage's limit rows that pull in the last solve (λ·limitTouched < 0: the row would hold its joint
+	// at a stop it is inside, by more than the row's threshold) are taken out, until an accepted step crosses that
+	// stop again (evaluatePositions; docs/MATH.md, "One-sided rows in Q13"). A stop only pushes (Bullet's limit impulse is one-sided); a
+	// row kept as an equation inside its stop (e.g. entered at a Newton step that was then undone) pulled a limb
+	// into the ground. A held row (a drive) is an equation by design. True if it took any out.
+	bool releasePullingLimits()
+	{
+		bool released = false;
+		for (size_t j = 0; j < island.joints.size(); ++j)
+		{
+			JointSlot& js = island.joints[j];
+			// a row taken out once and back (its stop crossed again in an accepted step) stays: no cycling
+			if (!js.limitSlot || js.limitTouched == 0 || js.held || js.limitReleased) continue;
+			const int r = js.bilateralRows;
+			const double inside = js.limitTouched * island.blocks[j].c[r];  // how far inside its stop (m or rad)
+			const btScalar threshold = js.limitLinear() ? js.linearThreshold : js.angularThreshold;
+			if (inside <= double(threshold) || js.limitTouched * island.lambda[j][r] >= 0) continue;
+			js.limitTouched = 0;
+			js.limitReleased = true;
+			js.limitActive = false;
+			island.blocks[j].jacobian.row(r).setZero();
+			island.blocks[j].c[r] = 0;
+			++result.limitReleases;
+			released = true;
+		}
+		return released;
+	}
+	// Puts the bodies back where the last step started (a step halved or undone), with the rows taken out because
+	// they pulled there out again: a step that took such a row back in (it crossed the stop or the ground again) is
+	// not kept, and at the restored pose the row would pull again. Other rows a rejected step brought in stay: the
+	// next factorization has them (and the push-only test takes out those that pull).
+	void restorePositions()
+	{
+		restoreTransforms(island);
+		for (JointSlot& js : island.joints)
+			if (js.limitReleased) js.limitTouched = 0;
+	}
+	// The position stage's solve, then the inequality rows that pull taken out and the solve repeated until none
+	// pulls (at most kMaxContactReleases times): limit rows alone by solves with K's factors
+	// (solveDeltasWithoutDroppedRows), contact rows with a new factorization. False if a factorization failed.
+	bool solvePositionDeltas()
+	{
+		solveDeltas(island, &JointBlock<R>::c, result);
+		for (int k = 0; k < kMaxContactReleases; ++k)
+		{
+			// limit rows first: a contact can pull only because a limit row that pulls holds its limb
+			const bool limits = releasePullingLimits();
+			const bool contacts = !limits && !island.contacts.empty() && releasePullingContacts(island);
+			if (!contacts && !limits) break;
+			if (!contacts && solveDeltasWithoutDroppedRows(island, &JointBlock<R>::c, result)) continue;
+			if (!factorize()) return false;
+			solveDeltas(island, &JointBlock<R>::c, result);
+		}
+		return true;
+	}
 	// After a solve with rhs: contact rows that pull are taken out, K factorized again and the solve repeated, until
 	// none pulls (at most kMaxContactReleases times); `refactorized` says whether any was. False if a factorization
 	// failed.
@@ -269,8 +326,7 @@ struct IslandStep
 				}
 				else
 					computeDirections(island);  // chord step: the factorized K, the current J
-				solveDeltas(island, &JointBlock<R>::c, result);
-				if (!solveAgainWithoutPullingContacts(&JointBlock<R>::c)) break;
+				if (!solvePositionDeltas()) break;
 				saveTransforms(island);
 				const PositionResidual start = res;
 				double step = 1;
@@ -280,8 +336,8 @@ struct IslandStep
 				// The step took a joint past a stop that K did not have (the active set grew): the residual now counts
 				// that new row, so it is no measure of the step (a correct step measured "worse" here was halved, undone
 				// and retried in the stiff metric, and could end the loop unconverged). Keep it; the next iteration
-				// factorizes with the row. The active set only grows within a step, so this happens at most once per
-				// limit. Not a step that made ‖C‖ grow by more than kActiveSetGrowth: a correct step adds about its own length
+				// factorizes with the row. A row enters at most twice within a step (once more after it pulled and was
+				// taken out: releasePullingLimits), so this happens at most twice per limit. Not a step that made ‖C‖ grow by more than kActiveSetGrowth: a correct step adds about its own length
 				// at the new stop, while one that grows it more has left the linearization behind (a ragdoll's contact rows
 				// with a nearly singular K, double: a first step from 0.09 to 22 m; kept, Newton then converged to a pose
 				// with a leg 0.56 m into the ground); it is halved and undone as any step that makes ‖C‖ worse.
@@ -291,7 +347,7 @@ struct IslandStep
 				for (int halving = 0; res.normalized >= start.normalized && halving < kMaxHalvings; ++halving)
 				{
 					step *= 0.5;
-					restoreTransforms(island);
+					restorePositions();
 					movePositions(island, step);
 					res = evaluatePositions(island, settings.tolerance);
 					++result.backtracks;
@@ -303,7 +359,7 @@ struct IslandStep
 					useMassMetric();
 				if (res.normalized >= start.normalized)
 				{
-					restoreTransforms(island);
+					restorePositions();
 					res = evaluatePositions(island, settings.tolerance);  // the rows at the restored positions
 					// No step along this Newton direction helps. The mass metric's direction can be the culprit (a
 					// nearly straight chain of light links under a heavy load: bending them is cheap to first order and

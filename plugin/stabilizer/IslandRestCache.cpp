@@ -238,7 +238,8 @@ bool replayIfAtRest(Island& island, btScalar timeStep, ProjectionResult& result)
 		out += kOutputsPerBody;
 	}
 	result = kept;
-	result.iterations = result.factorizations = result.solves = result.backtracks = result.metricSwitches = 0;
+	result.iterations = result.factorizations = result.solves = result.backtracks = result.metricSwitches =
+		result.limitReleases = 0;
 	result.reused = true;
 	return true;
 }

@@ -189,6 +189,7 @@ struct JointSlot
 	bool limitActive;                            // the limit row is in the system (else a padding row)
 	bool limitActiveInFactor;                    // … as it was when K was last factorized
 	int limitTouched;                            // +1 the lower stop, −1 the upper stop was violated this step, 0 neither
+	bool limitReleased;                          // … and it pulled and was taken out once this step (IslandProjection.cpp)
 	bool held;                                   // the slot holds a driven axis (a 6-dof's drive: StockHingeRows.h) where the step left it
 	btScalar heldRate;                           // … at the rate it had (rad/s; 0 while a stop is pushed into)
 	unsigned contactTouched;                     // a contact slot: bit r set once row r penetrated this step (then in the system)
@@ -233,7 +234,8 @@ struct ProjectionResult
 	int backtracks = 0;
 	int metricSwitches = 0;
 	int activeLimitRows = 0;
-	int contactRows = 0;  // contact rows in the system at the end of the step (projectContacts)
+	int limitReleases = 0;  // limit rows taken out in the position stage because they pulled
+	int contactRows = 0;    // contact rows in the system at the end of the step (projectContacts)
 	int numericalIssues = 0;
 	btScalar residualBefore = 0;
 	btScalar residualAfter = 0;

@@ -251,6 +251,7 @@ const btQuaternionHingeStabilizerStats& btQuaternionHingeStabilizer::stabilize(b
 		m_stats.backtracks += r.backtracks;
 		m_stats.metricSwitches += r.metricSwitches;
 		m_stats.activeLimitRows += r.activeLimitRows;
+		m_stats.limitReleases += r.limitReleases;
 		m_stats.contactRows += r.contactRows;
 		m_stats.numericalIssues += r.numericalIssues;
 		m_stats.residualBefore = (std::max)(m_stats.residualBefore, r.residualBefore);

@@ -225,6 +225,7 @@ struct btQuaternionHingeStabilizerStats
 	int backtracks = 0;                   ///< Newton steps halved because the full step made ‖C‖ worse
 	int metricSwitches = 0;               ///< islands whose position correction switched to the stiff metric (see above)
 	int activeLimitRows = 0;              ///< limit rows projected (violated at some iteration)
+	int limitReleases = 0;                ///< … of which taken out again because they pulled (a stop only pushes)
 	int contactRows = 0;                  ///< contact rows projected (projectContacts: penetrating at some iteration)
 	btScalar residualBefore = 0;          ///< ‖C‖∞ before the position projection
 	btScalar residualAfter = 0;           ///< ‖C‖∞ after it (at the final positions)
