@@ -194,6 +194,10 @@ public:
 					deepest = std::max(deepest, double(-manifold->getContactPoint(p).getDistance()));
 				}
 			}
+			{
+				const auto& st = m_stabilizer.getLastStats();
+				std::printf("DIAG s=%d cone %.2e hinge %.2e it %d fac %d bt %d lim %d rel %d contacts %d res %.2e->%.2e\n", s, cone, hinge, st.iterations, st.factorizations, st.backtracks, st.activeLimitRows, st.limitReleases, st.contactRows, double(st.residualBefore), double(st.residualAfter));
+			}
 			if (m_stabilized) f.callDeepening = std::max(f.callDeepening, m_afterCall.depth - m_beforeCall.depth);
 			f.coneSeparation = std::max(f.coneSeparation, cone);
 			f.groundPenetration = std::max(f.groundPenetration, ground);
@@ -288,6 +292,12 @@ TEST(StabilizerMixed, RagdollDemoWithConeTwistsIsNoWorseWithTheStabilizer)
 	// and what it does see it holds: the hinges at the end, with some ragdolls asleep and some still settling
 	EXPECT_LE(stabilized.hingeSeparationEnd, kSeparationTolerance);
 	EXPECT_LT(stabilized.hingeSeparation, bare.hingeSeparation);
+	// No call leaves a ground contact deeper than it found it, but for what kCallDeepening allows: a contact row taken
+	// out because it pulled comes back if its point sinks below its start depth (IslandContacts.h). Without that, 16
+	// spins had calls deepening a contact by 1.1e-2 m (double) and 2.0e-3 m (float); with it 8.5e-5 and 3.8e-5 m,
+	// short of the 1e-6 m (not traced: CHANGELOG).
+	const double kCallDeepening = 2e-4;  // m
+	EXPECT_LE(stabilized.callDeepening, kCallDeepening);
 }
 
 TEST(StabilizerMixed, RagdollDemoWithItsConeTwistsProjectedHoldsEveryJoint)
@@ -339,10 +349,11 @@ TEST(StabilizerMixed, RagdollDemoWithItsConeTwistLimitsProjectedPullsNoLimbIntoT
 	// that rule, a row entered at a Newton step that was then undone stayed as an equation 0.77 rad from its stop at
 	// the restored pose (double, spin 0, t = 0.62 s): the call dropped its contact rows and pulled a shin 0.104 m into
 	// the ground (largest deepening by a call over the 8 spins: 0.103 m in double). With it: 1.7e-2 m in double,
-	// 4.4e-3 m in float, what the stabilizer's defaults also do in these worlds (1.1e-2 and 2.0e-3 m: a contact row
-	// taken out because it pulled does not come back within the call; STABILIZER.md, "Limitations").
+	// 4.4e-3 m in float; with contact rows that come back when their point sinks below its start depth
+	// (IslandContacts.h), 4.2e-3 and 1.4e-4 m (what is left: landings where the contact rows are dropped, the
+	// fallback when no Newton step helps with them).
 	const auto [bare, limits] = bareAnd(Kind::QuaternionStabilizedConeLimits, "q+stab+cones");
-	const double kNoPull = 3e-2;      // m: the largest deepening of the ground contacts by one call
+	const double kNoPull = 1e-2;      // m: the largest deepening of the ground contacts by one call
 	const double kJointBound = 1e-5;  // m: the float tolerance, in both precisions
 	EXPECT_LE(limits.callDeepening, kNoPull);
 	EXPECT_LE(limits.coneSeparation, kJointBound);

@@ -24,8 +24,12 @@
 // One-sided, by an active set: a row enters the system once its point penetrates by more than its tolerance and then
 // holds C_r = 0 in the position stage and n·v_rel = 0 (relative to a kinematic partner's velocity) in the velocity stage (which removes the approach and the push-out
 // velocity Bullet's solver gave a penetration the projection has already removed); after a solve, a row whose
-// multiplier pulls (λ_r < 0: the other rows would lift the body off) leaves the system for the rest of the step and K is
-// factorized again (releasePullingContacts). Inactive rows are zero rows with s on K's diagonal. Their linear part is
+// multiplier pulls (λ_r < 0: the other rows would lift the body off) leaves the system and K is factorized again
+// (releasePullingContacts). It comes back only if its point sinks deeper than the step's start found it, and then
+// holds it at that depth (C_r = min(0, C_r at the start): never worse than Bullet left it), and is not taken out again.
+// Before, a row taken out stayed out: four RagdollDemo ragdolls dropped on the ground had calls that sank a contact
+// 1.1e-2 m (double; 2.0e-3 m float) as the rest of the correction moved its body. Rows the fallback drops
+// (releaseAllContacts) stay out. Inactive rows are zero rows with s on K's diagonal. Their linear part is
 // n, not the point rows' ±I: the assembly and the deltas take the general product for contact slots (IslandSystem.h).
 #ifndef QUATHINGE_STABILIZER_ISLAND_CONTACTS_H
 #define QUATHINGE_STABILIZER_ISLAND_CONTACTS_H
@@ -52,8 +56,8 @@ void scanContacts(btDispatcher& dispatcher, Array<SignatureEntry>& scan, Array<s
 void gatherContacts(btDispatcher& dispatcher, const Array<std::unique_ptr<Island>>& islands, const IslandBodyMap& bodyOf);
 
 /// The contact slot's rows at its bodies' current transforms into C and J (rows of the block), growing the active set
-/// with rows penetrating by more than `threshold` (unless taken out this step). Returns the largest |C| of the active
-/// rows.
+/// with rows penetrating by more than `threshold` (a row taken out this step: deeper than at the step's start by
+/// more than it). Returns the largest |C| of the active rows.
 template <int R>
 btScalar evaluateContactRows(const Island& island, JointSlot& js, JointBlock<R>& jb, btScalar threshold)
 {
@@ -70,7 +74,12 @@ btScalar evaluateContactRows(const Island& island, JointSlot& js, JointBlock<R>&
 			const btVector3 armB = tB ? tB->getBasis() * row.other : btVector3(0, 0, 0);
 			const btVector3 onB = tB ? tB->getOrigin() + armB : row.other;
 			const btScalar c = row.sign * row.normal.dot((t.getOrigin() + arm) - onB);
-			if (c < -threshold && !(js.contactReleased & (1u << r))) js.contactTouched |= 1u << r;
+			if (!js.contactFloorSet) js.contactFloor[r] = btMin(c, btScalar(0));
+			// a row taken out because it pulled comes back only to keep its point from sinking deeper than the step
+			// found it, and then holds it there (never worse), not at C = 0
+			const bool released = (js.contactReleased & (1u << r)) != 0;
+			const btScalar target = released ? js.contactFloor[r] : btScalar(0);
+			if (c < target - threshold) js.contactTouched |= 1u << r;
 			if (js.contactTouched & (1u << r))
 			{
 				const btVector3 n = row.sign * row.normal, angular = arm.cross(n), angularB = armB.cross(n);
@@ -82,14 +91,15 @@ btScalar evaluateContactRows(const Island& island, JointSlot& js, JointBlock<R>&
 					jb.jacobian(r, 6 + k) = -n[k];
 					jb.jacobian(r, 9 + k) = -angularB[k];
 				}
-				jb.c[r] = c;
-				worst = btMax(worst, btFabs(c));
+				jb.c[r] = c - target;
+				worst = btMax(worst, btFabs(c - target));
 				continue;
 			}
 		}
 		jb.jacobian.row(r).setZero();
 		jb.c[r] = 0;
 	}
+	js.contactFloorSet = true;
 	return worst;
 }
 
@@ -121,7 +131,8 @@ bool releasePullingContacts(BlockIsland<R>& island)
 		if (island.joints[j].contact < 0) continue;
 		unsigned pulling = 0;
 		for (int r = 0; r < R; ++r)
-			if ((island.joints[j].contactTouched & (1u << r)) && island.lambda[j][r] < 0) pulling |= 1u << r;
+			if ((island.joints[j].contactTouched & ~island.joints[j].contactReleased & (1u << r)) && island.lambda[j][r] < 0)
+				pulling |= 1u << r;
 		if (pulling == 0) continue;
 		releaseContactRows(island, j, pulling);
 		released = true;
@@ -140,6 +151,8 @@ bool releaseAllContacts(BlockIsland<R>& island)
 		if (island.joints[j].contact < 0) continue;
 		any = any || island.joints[j].contactTouched != 0;
 		releaseContactRows(island, j, (1u << R) - 1);
+		// for good: no depth brings them back this step (the joints alone, as without projectContacts)
+		for (int r = 0; r < R; ++r) island.joints[j].contactFloor[r] = -SIMD_INFINITY;
 	}
 	return any;
 }

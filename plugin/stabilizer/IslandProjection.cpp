@@ -119,6 +119,7 @@ struct IslandStep
 			js.limitReleased = false;
 			js.limitActive = js.limitActiveInFactor = false;  // js.angleReference: readAngleReferences
 			js.contactTouched = js.contactReleased = js.contactActiveInFactor = 0;
+			js.contactFloorSet = false;
 		}
 	}
 
@@ -259,15 +260,21 @@ struct IslandStep
 		}
 		return released;
 	}
-	// Puts the bodies back where the last step started (a step halved or undone), with the rows taken out because
-	// they pulled there out again: a step that took such a row back in (it crossed the stop or the ground again) is
-	// not kept, and at the restored pose the row would pull again. Other rows a rejected step brought in stay: the
-	// next factorization has them (and the push-only test takes out those that pull).
+	// Puts the bodies back where the last step started (a step halved or undone), with the limit rows taken out
+	// because they pulled there out again: a step that took such a row back in (it crossed the stop again) is not
+	// kept, and at the restored pose the row would pull again. Other limit rows a rejected step brought in stay: the
+	// next factorization has them (and the push-only test takes out those that pull; taking them out with the pose
+	// failed a 6-dof hinge on aarch64, whose next step crossed the same stop again: CHANGELOG). The contact rows are
+	// those of the restored pose (contactSaved): measured, a pile of RagdollDemo ragdolls with projectConeTwistLimits
+	// kept its hinges to 1e-5 m only so.
 	void restorePositions()
 	{
 		restoreTransforms(island);
 		for (JointSlot& js : island.joints)
+		{
 			if (js.limitReleased) js.limitTouched = 0;
+			js.contactTouched = js.contactSaved;
+		}
 	}
 	// The position stage's solve, then the inequality rows that pull taken out and the solve repeated until none
 	// pulls (at most kMaxContactReleases times): limit rows alone by solves with K's factors
@@ -328,6 +335,7 @@ struct IslandStep
 					computeDirections(island);  // chord step: the factorized K, the current J
 				if (!solvePositionDeltas()) break;
 				saveTransforms(island);
+				for (JointSlot& js : island.joints) js.contactSaved = js.contactTouched;
 				const PositionResidual start = res;
 				double step = 1;
 				factorAge += movePositions(island, step);

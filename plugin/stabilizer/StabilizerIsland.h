@@ -186,15 +186,20 @@ struct JointSlot
 	btScalar angleReference;  // at the step's start
 	btScalar angle;           // at the last evaluation
 	btScalar lowerStop, upperStop;
-	bool limitActive;                            // the limit row is in the system (else a padding row)
-	bool limitActiveInFactor;                    // … as it was when K was last factorized
-	int limitTouched;                            // +1 the lower stop, −1 the upper stop was violated this step, 0 neither
-	bool limitReleased;                          // … and it pulled and was taken out once this step (IslandProjection.cpp)
-	bool held;                                   // the slot holds a driven axis (a 6-dof's drive: StockHingeRows.h) where the step left it
-	btScalar heldRate;                           // … at the rate it had (rad/s; 0 while a stop is pushed into)
-	unsigned contactTouched;                     // a contact slot: bit r set once row r penetrated this step (then in the system)
-	unsigned contactReleased;                    // … and bit r once row r pulled (λ < 0) and was taken out for the rest of the step
-	unsigned contactActiveInFactor;              // … as it was when K was last factorized
+	bool limitActive;                // the limit row is in the system (else a padding row)
+	bool limitActiveInFactor;        // … as it was when K was last factorized
+	int limitTouched;                // +1 the lower stop, −1 the upper stop was violated this step, 0 neither
+	bool limitReleased;              // … and it pulled and was taken out once this step (IslandProjection.cpp)
+	bool held;                       // the slot holds a driven axis (a 6-dof's drive: StockHingeRows.h) where the step left it
+	btScalar heldRate;               // … at the rate it had (rad/s; 0 while a stop is pushed into)
+	unsigned contactTouched;         // a contact slot: bit r set once row r penetrated this step (then in the system)
+	unsigned contactReleased;        // … and bit r once row r pulled (λ < 0) and was taken out (once: IslandContacts.h)
+	unsigned contactActiveInFactor;  // … as it was when K was last factorized
+	unsigned contactSaved;           // … as it was when the bodies' transforms were saved (a Newton step's start)
+	// … per row: min(0, C at the step's start), the depth a row taken out may sink back to before it comes back
+	// (−∞: never; IslandContacts.h), set at the step's first evaluation (contactFloorSet)
+	btScalar contactFloor[kMaxContactRows];
+	bool contactFloorSet;
 	btScalar linearThreshold;                    // converged |C| of the linear rows (m): max(tolerance, their rounding floor)
 	btScalar angularThreshold;                   // … of the angular and limit rows (rad)
 	Eigen::Matrix<double, 1, 12> limitGradient;  // ∂α/∂(v_A, ω_A, v_B, ω_B) at the last evaluation
