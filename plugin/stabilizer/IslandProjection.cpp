@@ -234,12 +234,20 @@ struct IslandStep
 		return false;
 	}
 	// The position stage's limit rows that pull in the last solve (λ·limitTouched < 0: the row would hold its joint
-	// at a stop it is inside, by more than the row's threshold) are taken out, until an accepted step crosses that
-	// stop again (evaluatePositions; docs/MATH.md, "One-sided rows in Q13"). A stop only pushes (Bullet's limit impulse is one-sided); a
-	// row kept as an equation inside its stop (e.g. entered at a Newton step that was then undone) pulled a limb
-	// into the ground. A held row (a drive) is an equation by design. True if it took any out.
+	// at a stop it is inside) are taken out, until an accepted step crosses that stop again (evaluatePositions;
+	// docs/MATH.md, "One-sided rows in Q13"). Only a row inside by more than the island's largest |C| over its other
+	// rows (or the row's threshold): closer, the row is at its stop to within what this step moves (measured in
+	// double, a chain of limited 6-dof balls: rows 1e-5 rad inside with the pose 2.4e-5 from converged, taken out,
+	// were crossed again by the next step, which was undone, and the step ended at 2.1e-5).
 	bool releasePullingLimits()
 	{
+		double margin = 0;  // m or rad
+		for (size_t j = 0; j < island.joints.size(); ++j)
+		{
+			const JointSlot& js = island.joints[j];
+			const int rows = js.limitSlot ? js.bilateralRows : R;  // the joint's own rows, or a contact slot's
+			for (int r = 0; r < rows; ++r) margin = std::max(margin, std::fabs(island.blocks[j].c[r]));
+		}
 		bool released = false;
 		for (size_t j = 0; j < island.joints.size(); ++j)
 		{
@@ -249,7 +257,7 @@ struct IslandStep
 			const int r = js.bilateralRows;
 			const double inside = js.limitTouched * island.blocks[j].c[r];  // how far inside its stop (m or rad)
 			const btScalar threshold = js.limitLinear() ? js.linearThreshold : js.angularThreshold;
-			if (inside <= double(threshold) || js.limitTouched * island.lambda[j][r] >= 0) continue;
+			if (inside <= std::max(double(threshold), margin) || js.limitTouched * island.lambda[j][r] >= 0) continue;
 			js.limitTouched = 0;
 			js.limitReleased = true;
 			js.limitActive = false;
@@ -317,7 +325,12 @@ struct IslandStep
 		if (settings.positions)
 		{
 			bool chordStalled = false;
-			while (res.normalized > 1 && result.iterations < settings.maxIterations)
+			// Newton steps that grew the active set and were kept (below) are not counted against maxIterations, up to
+			// maxIterations of them: a row enters at most twice a step (limits: after a release; contacts: back below
+			// their start depth), and a landing's rows can take every counted iteration (measured on aarch64: a pile of
+			// RagdollDemo ragdolls ended a step at maxIterations with its joints 2.1e-5 m apart).
+			int growthSteps = 0;
+			while (res.normalized > 1 && result.iterations - growthSteps < settings.maxIterations)
 			{
 				const bool factorNow = chordStalled || factorAge > kChordAge || res.limitsChanged;
 				if (factorNow)
@@ -345,11 +358,16 @@ struct IslandStep
 				// that new row, so it is no measure of the step (a correct step measured "worse" here was halved, undone
 				// and retried in the stiff metric, and could end the loop unconverged). Keep it; the next iteration
 				// factorizes with the row. A row enters at most twice within a step (once more after it pulled and was
-				// taken out: releasePullingLimits), so this happens at most twice per limit. Not a step that made ‖C‖ grow by more than kActiveSetGrowth: a correct step adds about its own length
-				// at the new stop, while one that grows it more has left the linearization behind (a ragdoll's contact rows
+				// taken out), and such steps are not counted against maxIterations (growthSteps). Not a step that made
+				// ‖C‖ grow by more than kActiveSetGrowth: a correct step adds about its own length at the new stop,
+				// while one that grows it more has left the linearization behind (a ragdoll's contact rows
 				// with a nearly singular K, double: a first step from 0.09 to 22 m; kept, Newton then converged to a pose
 				// with a leg 0.56 m into the ground); it is halved and undone as any step that makes ‖C‖ worse.
-				if (res.limitsChanged && res.normalized <= kActiveSetGrowth * start.normalized) continue;
+				if (res.limitsChanged && res.normalized <= kActiveSetGrowth * start.normalized)
+				{
+					if (growthSteps < settings.maxIterations) ++growthSteps;
+					continue;
+				}
 				// Backtracking: a step that makes ‖C‖ worse (far from the solution in a nearly singular pose, e.g. a taut
 				// chain, the linearization overshoots) is halved, at most kMaxHalvings times, else undone.
 				for (int halving = 0; res.normalized >= start.normalized && halving < kMaxHalvings; ++halving)

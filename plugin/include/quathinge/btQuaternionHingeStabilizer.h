@@ -49,7 +49,8 @@ struct btQuaternionHingeStabilizerSettings
 #endif
 	/// Most Newton iterations per island and step (≥ 1). After a velocity-projected step the error is small and one
 	/// or two iterations suffice; a large error (a scene set up off its joints, a 1:1000 mass ratio, a long taut
-	/// chain) takes a few more.
+	/// chain) takes a few more. An iteration that brings a stop or a contact into the system is not counted (at most
+	/// maxIterations of those), so getLastStats().iterations can reach twice this.
 	int maxIterations = 10;
 	/// Within a few times the rounding floor of the precision, Newton stops when an iteration reduces ‖C‖∞ by less
 	/// than this factor (more iterations cannot help there). (0, 1]; 1 turns the test off. Farther away it goes on
