@@ -241,13 +241,17 @@ struct IslandStep
 	// were crossed again by the next step, which was undone, and the step ended at 2.1e-5).
 	bool releasePullingLimits()
 	{
-		double margin = 0;  // m or rad
-		for (size_t j = 0; j < island.joints.size(); ++j)
-		{
-			const JointSlot& js = island.joints[j];
-			const int rows = js.limitSlot ? js.bilateralRows : R;  // the joint's own rows, or a contact slot's
-			for (int r = 0; r < rows; ++r) margin = std::max(margin, std::fabs(island.blocks[j].c[r]));
-		}
+		double margin = -1;  // m or rad; found when a row that pulls asks for it
+		auto otherRowsError = [&] {
+			if (margin < 0)
+				for (size_t j = 0; j < island.joints.size(); ++j)
+				{
+					const JointSlot& js = island.joints[j];
+					const int rows = js.limitSlot ? js.bilateralRows : R;  // the joint's own rows, or a contact slot's
+					for (int r = 0; r < rows; ++r) margin = std::max(margin, std::fabs(island.blocks[j].c[r]));
+				}
+			return margin;
+		};
 		bool released = false;
 		for (size_t j = 0; j < island.joints.size(); ++j)
 		{
@@ -257,7 +261,8 @@ struct IslandStep
 			const int r = js.bilateralRows;
 			const double inside = js.limitTouched * island.blocks[j].c[r];  // how far inside its stop (m or rad)
 			const btScalar threshold = js.limitLinear() ? js.linearThreshold : js.angularThreshold;
-			if (inside <= std::max(double(threshold), margin) || js.limitTouched * island.lambda[j][r] >= 0) continue;
+			if (js.limitTouched * island.lambda[j][r] >= 0 || inside <= std::max(double(threshold), otherRowsError()))
+				continue;
 			js.limitTouched = 0;
 			js.limitReleased = true;
 			js.limitActive = false;
@@ -284,37 +289,30 @@ struct IslandStep
 			js.contactTouched = js.contactSaved;
 		}
 	}
-	// The position stage's solve, then the inequality rows that pull taken out and the solve repeated until none
-	// pulls (at most kMaxContactReleases times): limit rows alone by solves with K's factors
-	// (solveDeltasWithoutDroppedRows), contact rows with a new factorization. False if a factorization failed.
-	bool solvePositionDeltas()
+	// After a solve with rhs: the rows that pull are taken out and the solve repeated, until none pulls (at most
+	// kMaxContactReleases times). With `limits` (the position stage), limit rows first, by solves with K's factors
+	// (solveDeltasWithoutDroppedRows; a contact can pull only because a limit row that pulls holds its limb); contact
+	// rows with a new factorization. `refactorized` says whether one was made. False if a factorization failed.
+	bool solveAgainWithoutPullingRows(BlockVector<R> JointBlock<R>::*rhs, bool limits, bool* refactorized = nullptr)
 	{
-		solveDeltas(island, &JointBlock<R>::c, result);
 		for (int k = 0; k < kMaxContactReleases; ++k)
 		{
-			// limit rows first: a contact can pull only because a limit row that pulls holds its limb
-			const bool limits = releasePullingLimits();
-			const bool contacts = !limits && !island.contacts.empty() && releasePullingContacts(island);
-			if (!contacts && !limits) break;
-			if (!contacts && solveDeltasWithoutDroppedRows(island, &JointBlock<R>::c, result)) continue;
-			if (!factorize()) return false;
-			solveDeltas(island, &JointBlock<R>::c, result);
-		}
-		return true;
-	}
-	// After a solve with rhs: contact rows that pull are taken out, K factorized again and the solve repeated, until
-	// none pulls (at most kMaxContactReleases times); `refactorized` says whether any was. False if a factorization
-	// failed.
-	bool solveAgainWithoutPullingContacts(BlockVector<R> JointBlock<R>::*rhs, bool* refactorized = nullptr)
-	{
-		if (island.contacts.empty()) return true;
-		for (int k = 0; k < kMaxContactReleases && releasePullingContacts(island); ++k)
-		{
+			const bool limitsOut = limits && releasePullingLimits();
+			const bool contactsOut = !limitsOut && !island.contacts.empty() && releasePullingContacts(island);
+			if (!limitsOut && !contactsOut) break;
+			if (!contactsOut && solveDeltasWithoutDroppedRows(island, rhs, result)) continue;
 			if (refactorized) *refactorized = true;
 			if (!factorize()) return false;
 			solveDeltas(island, rhs, result);
 		}
 		return true;
+	}
+	// Keeps the bodies' transforms for backtracking (saveTransforms), and the contact rows in the system with them
+	// (restorePositions puts both back).
+	void savePositions()
+	{
+		saveTransforms(island);
+		for (JointSlot& js : island.joints) js.contactSaved = js.contactTouched;
 	}
 
 	// (Q13) Newton on C = 0, ending in M with the bodies' inertia refreshed.
@@ -346,9 +344,9 @@ struct IslandStep
 				}
 				else
 					computeDirections(island);  // chord step: the factorized K, the current J
-				if (!solvePositionDeltas()) break;
-				saveTransforms(island);
-				for (JointSlot& js : island.joints) js.contactSaved = js.contactTouched;
+				solveDeltas(island, &JointBlock<R>::c, result);
+				if (!solveAgainWithoutPullingRows(&JointBlock<R>::c, true)) break;
+				savePositions();
 				const PositionResidual start = res;
 				double step = 1;
 				factorAge += movePositions(island, step);
@@ -452,7 +450,7 @@ struct IslandStep
 				solveDeltas(island, &JointBlock<R>::jv, result);
 			}
 			bool refactorized = false;
-			if (!solveAgainWithoutPullingContacts(&JointBlock<R>::jv, &refactorized)) break;
+			if (!solveAgainWithoutPullingRows(&JointBlock<R>::jv, false, &refactorized)) break;
 			if (refactorized) factorNow = factorizedHere = true;
 			changeVelocities(island);
 			const btScalar previous = vres.normalized;
