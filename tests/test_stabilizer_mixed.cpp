@@ -48,40 +48,20 @@ struct Figures
 	double coneSeparationLate = 0, groundPenetrationLate = 0, bodyPenetrationLate = 0;
 };
 
-// The deepest ground contact now, from the manifolds' points at the bodies' current transforms (Bullet's stored
-// distances are those of the last collision detection, before the step moved the bodies).
-double groundDepthNow(btDiscreteDynamicsWorld& world, const btCollisionObject* ground)
-{
-	double depth = 0;
-	btDispatcher& d = *world.getDispatcher();
-	for (int m = 0; m < d.getNumManifolds(); ++m)
-	{
-		const btPersistentManifold* manifold = d.getManifoldByIndexInternal(m);
-		if (manifold->getBody0() != ground && manifold->getBody1() != ground) continue;
-		const btTransform& ta = manifold->getBody0()->getWorldTransform();
-		const btTransform& tb = manifold->getBody1()->getWorldTransform();
-		for (int p = 0; p < manifold->getNumContacts(); ++p)
-		{
-			const btManifoldPoint& point = manifold->getContactPoint(p);
-			depth = std::max(depth, -double(point.m_normalWorldOnB.dot(ta * point.m_localPointA - tb * point.m_localPointB)));
-		}
-	}
-	return depth;
-}
-
-// An action that records the deepest ground contact when it runs: added just before and just after the stabilizer,
-// the pair measures what one call of it did to the contacts.
+// An action that records the deepest ground contact when it runs (RagdollDemoWorld::groundPenetration: the
+// manifolds' points at the bodies' current transforms, not Bullet's stored distances, which are those of the last
+// collision detection): added just before and just after the stabilizer, the pair measures what one call of it did
+// to the contacts.
 class GroundDepthProbe : public btActionInterface
 {
 public:
-	GroundDepthProbe(btDiscreteDynamicsWorld& world, const btCollisionObject* ground) : m_world(world), m_ground(ground) {}
-	void updateAction(btCollisionWorld*, btScalar) override { depth = groundDepthNow(m_world, m_ground); }
+	explicit GroundDepthProbe(const RagdollDemoWorld& world) : m_world(world) {}
+	void updateAction(btCollisionWorld*, btScalar) override { depth = m_world.groundPenetration(); }
 	void debugDraw(btIDebugDraw*) override {}
 	double depth = 0;  // m
 
 private:
-	btDiscreteDynamicsWorld& m_world;
-	const btCollisionObject* m_ground;
+	const RagdollDemoWorld& m_world;
 };
 
 class MixedRagdolls
@@ -217,7 +197,7 @@ private:
 	std::vector<std::unique_ptr<btTypedConstraint>> m_constraints;
 	RagdollDemoWorld m_demo;  // the ground (a static btRigidBody, as BenchmarkDemo's) and the four ragdolls
 	btQuaternionHingeStabilizer m_stabilizer;
-	GroundDepthProbe m_beforeCall{m_demo.world(), m_demo.ground()}, m_afterCall{m_demo.world(), m_demo.ground()};
+	GroundDepthProbe m_beforeCall{m_demo}, m_afterCall{m_demo};
 	bool m_stabilized = false;
 };
 
