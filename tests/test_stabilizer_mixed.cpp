@@ -174,10 +174,6 @@ public:
 					deepest = std::max(deepest, double(-manifold->getContactPoint(p).getDistance()));
 				}
 			}
-			{
-				const auto& st = m_stabilizer.getLastStats();
-				std::printf("DIAG s=%d cone %.2e hinge %.2e it %d fac %d bt %d lim %d rel %d contacts %d res %.2e->%.2e\n", s, cone, hinge, st.iterations, st.factorizations, st.backtracks, st.activeLimitRows, st.limitReleases, st.contactRows, double(st.residualBefore), double(st.residualAfter));
-			}
 			if (m_stabilized) f.callDeepening = std::max(f.callDeepening, m_afterCall.depth - m_beforeCall.depth);
 			f.coneSeparation = std::max(f.coneSeparation, cone);
 			f.groundPenetration = std::max(f.groundPenetration, ground);
