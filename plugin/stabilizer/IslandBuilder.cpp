@@ -393,7 +393,7 @@ std::unique_ptr<Island> buildOne(const Array<SignatureEntry>& entries, bool forc
 		slot.limitSlot = (e.flags & SignatureEntry::kLimitSlot) != 0;
 		slot.rows = slot.bilateralRows + (slot.limitSlot ? 1 : 0);
 		slot.limitAxis = e.locked && slot.limitSlot ? int((e.flags / SignatureEntry::kLimitAxis0) & 7) : -1;
-		slot.contactTouched = slot.contactReleased = slot.contactActiveInFactor = slot.contactSaved = 0;
+		slot.contactTouched = slot.contactReleased = slot.contactReleasedTwice = slot.contactActiveInFactor = slot.contactSaved = 0;
 		slot.contactFloorSet = false;
 		if (e.flags & SignatureEntry::kContact)
 		{

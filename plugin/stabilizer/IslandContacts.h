@@ -26,7 +26,11 @@
 // velocity Bullet's solver gave a penetration the projection has already removed); after a solve, a row whose
 // multiplier pulls (λ_r < 0: the other rows would lift the body off) leaves the system and K is factorized again
 // (releasePullingContacts). It comes back only if its point sinks deeper than the step's start found it, and then
-// holds it at that depth (C_r = min(0, C_r at the start): never worse than Bullet left it), and is not taken out again.
+// holds it at that depth (C_r = min(0, C_r at the start): never worse than Bullet left it). Back, it may pull and be
+// taken out once more (two such rows near a joint's pivot, a knee on the ground, are nearly one row held at two
+// depths: measured, a pile of 20 under MinGW, λ ~4e3 and a step ended at maxIterations with a hinge 2.4e-5 m apart);
+// back a second time, it stays (taken out any number of times, rows cycled: the pile with projectConeTwistLimits,
+// double, had a step of 40 Newton iterations end 1.7e-4 from converged).
 // Before, a row taken out stayed out: four RagdollDemo ragdolls dropped on the ground had calls that sank a contact
 // 1.1e-2 m (double; 2.0e-3 m float) as the rest of the correction moved its body. Rows the fallback drops
 // (releaseAllContacts) stay out. Inactive rows are zero rows with s on K's diagonal. Their linear part is
@@ -103,12 +107,14 @@ btScalar evaluateContactRows(const Island& island, JointSlot& js, JointBlock<R>&
 	return worst;
 }
 
-/// Takes the contact rows of island.joints[j] whose bits are in `rows` out of the system for the rest of the step.
+/// Takes the contact rows of island.joints[j] whose bits are in `rows` out of the system (until they sink below
+/// their floor: evaluateContactRows).
 template <int R>
 void releaseContactRows(BlockIsland<R>& island, size_t j, unsigned rows)
 {
 	JointSlot& js = island.joints[j];
 	js.contactTouched &= ~rows;
+	js.contactReleasedTwice |= js.contactReleased & rows;
 	js.contactReleased |= rows;
 	for (int r = 0; r < R; ++r)
 		if (rows & (1u << r))
@@ -119,9 +125,20 @@ void releaseContactRows(BlockIsland<R>& island, size_t j, unsigned rows)
 		}
 }
 
-/// After a solve (λ in island.lambda): takes out of the system every contact row whose λ pulls (λ < 0: the row would
-/// hold its body down, the other rows lift it off) for the rest of the step. True if it took any out (then K must be
-/// factorized again and the solve repeated).
+/// The rows of contact slot island.joints[j] in the system whose λ in the last solve pulls (λ < 0: the row would hold
+/// its body down, the other rows lift it off) and that may still be taken out (not twice already), as bits.
+template <int R>
+unsigned pullingContactRows(const BlockIsland<R>& island, size_t j)
+{
+	const JointSlot& js = island.joints[j];
+	unsigned pulling = 0;
+	for (int r = 0; r < R; ++r)
+		if ((js.contactTouched & ~js.contactReleasedTwice & (1u << r)) && island.lambda[j][r] < 0) pulling |= 1u << r;
+	return pulling;
+}
+
+/// After a solve (λ in island.lambda): takes out of the system every contact row that pulls (pullingContactRows).
+/// True if it took any out (then K must be factorized again and the solve repeated).
 template <int R>
 bool releasePullingContacts(BlockIsland<R>& island)
 {
@@ -129,10 +146,7 @@ bool releasePullingContacts(BlockIsland<R>& island)
 	for (size_t j = 0; j < island.joints.size(); ++j)
 	{
 		if (island.joints[j].contact < 0) continue;
-		unsigned pulling = 0;
-		for (int r = 0; r < R; ++r)
-			if ((island.joints[j].contactTouched & ~island.joints[j].contactReleased & (1u << r)) && island.lambda[j][r] < 0)
-				pulling |= 1u << r;
+		const unsigned pulling = pullingContactRows(island, j);
 		if (pulling == 0) continue;
 		releaseContactRows(island, j, pulling);
 		released = true;

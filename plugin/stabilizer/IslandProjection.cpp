@@ -118,7 +118,7 @@ struct IslandStep
 			js.limitTouched = 0;
 			js.limitReleased = false;
 			js.limitActive = js.limitActiveInFactor = false;  // js.angleReference: readAngleReferences
-			js.contactTouched = js.contactReleased = js.contactActiveInFactor = 0;
+			js.contactTouched = js.contactReleased = js.contactReleasedTwice = js.contactActiveInFactor = 0;
 			js.contactFloorSet = false;
 		}
 	}
@@ -223,14 +223,12 @@ struct IslandStep
 		result.leftoverKinetic = 0.5 * kinetic / (h * h);
 	}
 
-	// Some contact row in the system pulls in the last solve (λ < 0: IslandContacts.h).
+	// Some contact row in the system pulls in the last solve and would be taken out (IslandContacts.h).
 	bool pullingContact() const
 	{
 		if (island.contacts.empty()) return false;
 		for (size_t j = 0; j < island.joints.size(); ++j)
-			if (island.joints[j].contact >= 0)
-				for (int r = 0; r < R; ++r)
-					if ((island.joints[j].contactTouched & (1u << r)) && island.lambda[j][r] < 0) return true;
+			if (island.joints[j].contact >= 0 && pullingContactRows(island, j) != 0) return true;
 		return false;
 	}
 	// The position stage's limit rows that pull in the last solve (λ·limitTouched < 0: the row would hold its joint

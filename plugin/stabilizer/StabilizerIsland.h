@@ -193,7 +193,8 @@ struct JointSlot
 	bool held;                       // the slot holds a driven axis (a 6-dof's drive: StockHingeRows.h) where the step left it
 	btScalar heldRate;               // … at the rate it had (rad/s; 0 while a stop is pushed into)
 	unsigned contactTouched;         // a contact slot: bit r set once row r penetrated this step (then in the system)
-	unsigned contactReleased;        // … and bit r once row r pulled (λ < 0) and was taken out (once: IslandContacts.h)
+	unsigned contactReleased;        // … and bit r once row r pulled (λ < 0) and was taken out (IslandContacts.h)
+	unsigned contactReleasedTwice;   // … and bit r once it was taken out a second time (then it stays in when back)
 	unsigned contactActiveInFactor;  // … as it was when K was last factorized
 	unsigned contactSaved;           // … as it was when the bodies' transforms were saved (a Newton step's start)
 	// … per row: min(0, C at the step's start), the depth a row taken out may sink back to before it comes back
