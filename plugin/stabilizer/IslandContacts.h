@@ -154,15 +154,16 @@ bool releasePullingContacts(BlockIsland<R>& island)
 	return released;
 }
 
-/// Takes every contact row out of the system for the rest of the step (the position stage's fallback when its Newton
-/// steps with them fail: IslandProjection.cpp). True if any was in the system (else nothing changed: no retry).
+/// Takes every contact row (`pairsOnly`: of the pair slots, contacts between two island bodies) out of the system
+/// for the rest of the step (the position stage's fallback when its Newton steps with them fail:
+/// IslandProjection.cpp). True if any was in the system (else nothing changed: no retry).
 template <int R>
-bool releaseAllContacts(BlockIsland<R>& island)
+bool releaseAllContacts(BlockIsland<R>& island, bool pairsOnly)
 {
 	bool any = false;
 	for (size_t j = 0; j < island.joints.size(); ++j)
 	{
-		if (island.joints[j].contact < 0) continue;
+		if (island.joints[j].contact < 0 || (pairsOnly && island.joints[j].rigid[1] == nullptr)) continue;
 		any = any || island.joints[j].contactTouched != 0;
 		releaseContactRows(island, j, (1u << R) - 1);
 		// for good: no depth brings them back this step (the joints alone, as without projectContacts)

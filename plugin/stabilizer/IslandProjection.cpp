@@ -104,8 +104,9 @@ struct IslandStep
 	bool factorInM = false;
 	// JointBlock::leftover holds this step's C_r (recordLeftover).
 	bool leftoverRecorded = false;
-	// The contact rows were taken out for the rest of the step (projectPositions' fallback).
-	bool contactsDropped = false;
+	// The contact rows taken out for the rest of the step by projectPositions' fallback: 0 none, 1 the pair slots'
+	// (contacts between island bodies), 2 all.
+	int contactsDropped = 0;
 
 	IslandStep(BlockIsland<R>& i, const ProjectionSettings& s) : island(i), settings(s)
 	{
@@ -390,9 +391,16 @@ struct IslandStep
 					{
 						// Neither metric helps. With contact rows in the system they are the likely cause: up to four
 						// points of a pair, each held as an equation, whose depths no rigid move meets (measured: a
-						// ragdoll's first step 0.09 → 22 m). Once per step, the joints alone, as without projectContacts.
-						if (contactsDropped || !releaseAllContacts(island)) break;
-						contactsDropped = true;
+						// ragdoll's first step 0.09 → 22 m). First the contacts between island bodies (a pair slot
+						// closes a loop, and a limb 8 cm into another behind joints at their stops cannot be met:
+						// measured, λ ~1e6 and a first step of 117 m), then, if that does not help either, all: the
+						// joints alone, as without projectContacts.
+						if (contactsDropped == 0 && releaseAllContacts(island, true))
+							contactsDropped = 1;
+						else if (contactsDropped < 2 && releaseAllContacts(island, false))
+							contactsDropped = 2;
+						else
+							break;
 						res = evaluatePositions(island, settings.tolerance);
 					}
 					chordStalled = true;
