@@ -43,22 +43,58 @@ struct Figures
 	// m: the most one stabilizer call deepened the ground contacts (their deepest point after the call less before
 	// it), over the run; 0 without the stabilizer
 	double callDeepening = 0;
+	// m, measured, not asserted (what is left of issue 38's "never worse", CHANGELOG): the most one call sank a part
+	// into the ground, by the part's own deepest point (RagdollDemoWorld::partPenetrations; penetrations only), for
+	// the parts touching the ground at the call (a manifold point is a material point: a turn brings one towards the
+	// bottom of its capsule's sphere, deeper, while the part goes no deeper), and for the parts that were not (no
+	// contact row holds them: the rows are the contacts Bullet found)
+	double callPartDeepening = 0, callUntouchedDeepening = 0;
 	// over the last half of the run (the ragdolls on the ground, settling and asleep): the mean over its steps of
 	// each step's largest (what a ragdoll at rest keeps, rather than the worst moment)
 	double coneSeparationLate = 0, groundPenetrationLate = 0, bodyPenetrationLate = 0;
 };
 
-// An action that records the deepest ground contact when it runs (RagdollDemoWorld::groundPenetration: the
+// An action that records, when it runs, the deepest ground contact (RagdollDemoWorld::groundPenetration: the
 // manifolds' points at the bodies' current transforms, not Bullet's stored distances, which are those of the last
-// collision detection): added just before and just after the stabilizer, the pair measures what one call of it did
-// to the contacts.
+// collision detection), each ragdoll part's own penetration (RagdollDemoWorld::partPenetrations) and which parts
+// touch the ground (a ground manifold with a point): added just before and just after the stabilizer, the pair
+// measures what one call of it did to the contacts.
 class GroundDepthProbe : public btActionInterface
 {
 public:
 	explicit GroundDepthProbe(const RagdollDemoWorld& world) : m_world(world) {}
-	void updateAction(btCollisionWorld*, btScalar) override { depth = m_world.groundPenetration(); }
+	void updateAction(btCollisionWorld* world, btScalar) override
+	{
+		depth = m_world.groundPenetration();
+		m_world.partPenetrations(parts, &partBodies);
+		touching.clear();
+		btDispatcher& d = *world->getDispatcher();
+		for (int m = 0; m < d.getNumManifolds(); ++m)
+		{
+			const btPersistentManifold* manifold = d.getManifoldByIndexInternal(m);
+			if (manifold->getNumContacts() == 0) continue;
+			if (manifold->getBody0() == m_world.ground()) touching.push_back(manifold->getBody1());
+			if (manifold->getBody1() == m_world.ground()) touching.push_back(manifold->getBody0());
+		}
+	}
 	void debugDraw(btIDebugDraw*) override {}
-	double depth = 0;  // m
+	// m: the most a part (of those touching the ground at `before`'s run, or of the others) is deeper now than then,
+	// penetrations only (a part that leaves the ground, or stays above it, deepens nothing)
+	double deepeningSince(const GroundDepthProbe& before, bool touchingParts) const
+	{
+		double most = 0;
+		for (size_t i = 0; i < parts.size() && i < before.parts.size(); ++i)
+		{
+			const bool touched =
+				std::find(before.touching.begin(), before.touching.end(), partBodies[i]) != before.touching.end();
+			if (touched == touchingParts) most = std::max(most, std::max(parts[i], 0.0) - std::max(before.parts[i], 0.0));
+		}
+		return most;
+	}
+	double depth = 0;                                  // m
+	std::vector<double> parts;                         // m
+	std::vector<const btCollisionObject*> partBodies;  // … whose
+	std::vector<const btCollisionObject*> touching;    // the parts touching the ground
 
 private:
 	const RagdollDemoWorld& m_world;
@@ -174,7 +210,12 @@ public:
 					deepest = std::max(deepest, double(-manifold->getContactPoint(p).getDistance()));
 				}
 			}
-			if (m_stabilized) f.callDeepening = std::max(f.callDeepening, m_afterCall.depth - m_beforeCall.depth);
+			if (m_stabilized)
+			{
+				f.callDeepening = std::max(f.callDeepening, m_afterCall.depth - m_beforeCall.depth);
+				f.callPartDeepening = std::max(f.callPartDeepening, m_afterCall.deepeningSince(m_beforeCall, true));
+				f.callUntouchedDeepening = std::max(f.callUntouchedDeepening, m_afterCall.deepeningSince(m_beforeCall, false));
+			}
 			f.coneSeparation = std::max(f.coneSeparation, cone);
 			f.groundPenetration = std::max(f.groundPenetration, ground);
 			f.bodyPenetration = std::max(f.bodyPenetration, parts);
@@ -202,9 +243,9 @@ void print(const char* kind, const Figures& f)
 	std::printf(
 		"[ mixed    ] %-16s largest over 4 s (mean of each step's largest over the last 2 s), m: cone-twist separation %.2e (%.2e), hinge "
 		"separation %.2e (at the end %.2e), ground penetration %.2e (%.2e), part-part penetration %.2e (%.2e); "
-		"a call deepened the ground contacts by %.2e at most\n",
+		"a call deepened the ground contacts by %.2e at most (the parts themselves: touching %.2e, not touching %.2e)\n",
 		kind, f.coneSeparation, f.coneSeparationLate, f.hingeSeparation, f.hingeSeparationEnd, f.groundPenetration,
-		f.groundPenetrationLate, f.bodyPenetration, f.bodyPenetrationLate, f.callDeepening);
+		f.groundPenetrationLate, f.bodyPenetration, f.bodyPenetrationLate, f.callDeepening, f.callPartDeepening, f.callUntouchedDeepening);
 }
 
 // The mean over the variants of each run's figures.
@@ -221,6 +262,8 @@ Figures meanOver(Kind kind, int variants, int steps)
 		mean.bodyPenetration += w * f.bodyPenetration;
 		mean.hingeSeparationEnd = std::max(mean.hingeSeparationEnd, f.hingeSeparationEnd);  // the largest
 		mean.callDeepening = std::max(mean.callDeepening, f.callDeepening);                 // the largest
+		mean.callPartDeepening = std::max(mean.callPartDeepening, f.callPartDeepening);
+		mean.callUntouchedDeepening = std::max(mean.callUntouchedDeepening, f.callUntouchedDeepening);
 		mean.coneSeparationLate += w * f.coneSeparationLate;
 		mean.groundPenetrationLate += w * f.groundPenetrationLate;
 		mean.bodyPenetrationLate += w * f.bodyPenetrationLate;

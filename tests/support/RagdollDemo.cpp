@@ -191,4 +191,22 @@ double RagdollDemoWorld::groundPenetration() const
 	}
 	return deepest;
 }
+
+void RagdollDemoWorld::partPenetrations(std::vector<double>& depths, std::vector<const btCollisionObject*>* bodies) const
+{
+	depths.clear();
+	if (bodies) bodies->clear();
+	for (const auto& b : m_bodies)
+	{
+		// the ground as a static body; every part of RagdollDemo's ragdolls is a capsule
+		if (b->isStaticObject() || b->getCollisionShape()->getShapeType() != CAPSULE_SHAPE_PROXYTYPE) continue;
+		const btCapsuleShape& capsule = *static_cast<const btCapsuleShape*>(b->getCollisionShape());
+		btVector3 axis(0, 0, 0);
+		axis[capsule.getUpAxis()] = capsule.getHalfHeight();
+		const btTransform& t = b->getCenterOfMassTransform();
+		const double lowest = std::min(double((t * axis).y()), double((t * -axis).y()));
+		depths.push_back(double(capsule.getRadius()) - lowest);
+		if (bodies) bodies->push_back(b.get());
+	}
+}
 }  // namespace qh_test

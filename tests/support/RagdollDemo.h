@@ -41,6 +41,12 @@ public:
 	/// The deepest penetration (m, ≥ 0) of a contact point into the ground at the bodies' current poses (the
 	/// manifolds' points on the bodies, against the ground's top y = 0).
 	double groundPenetration() const;
+	/// Each ragdoll part's penetration (m; negative: its clearance) into the ground's top y = 0 at its current pose,
+	/// in the order the parts were made: the depth of the capsule's deepest point (one of its two spheres' bottoms),
+	/// which is what Bullet's next collision detection finds. A manifold point is a material point of the part, and a
+	/// turn can bring one towards the bottom of its sphere, deeper, without the part going any deeper.
+	/// `bodies` (optional): the parts, in the same order.
+	void partPenetrations(std::vector<double>& depths, std::vector<const btCollisionObject*>* bodies = nullptr) const;
 
 private:
 	btRigidBody* body(btScalar mass, btCollisionShape* shape, const btTransform& pose);
