@@ -16,8 +16,9 @@
 // ghost object, with CF_NO_CONTACT_RESPONSE, between two static or kinematic objects.
 // Rows: at the step's start a slot takes its bodies' deepest manifold points (at most R), held for the step: row r is
 // C_r = s_r n_r·(p_r − q_r) (p_r on the slot's body A, q_r on its body B or the fixed partner, n_r Bullet's normal on
-// the manifold's body B, s_r +1 when the slot's body A is the manifold's body A), Bullet's distance, negative when
-// penetrating, with J_r = s_r (n_r, a_r × n_r | −n_r, −b_r × n_r), a_r, b_r the points' arms in world. A sphere or
+// the manifold's body B, or the face normal of a box or plane partner when Bullet's is within 2.6° of it: Bullet's
+// float normals are tilted up to 1e-3 rad, IslandContacts.cpp; s_r +1 when the slot's body A is the manifold's body
+// A), Bullet's distance, negative when penetrating, with J_r = s_r (n_r, a_r × n_r | −n_r, −b_r × n_r), a_r, b_r the points' arms in world. A sphere or
 // capsule on a fixed partner takes its spheres' centres c instead of the manifold's points: C = s n·(c − q) − r, the
 // depth of its deepest point towards the contact plane whatever its turn (q the partner's point, r the radius; the
 // manifold's points are material points, and a turn of the body sinks another part of it than they hold).
