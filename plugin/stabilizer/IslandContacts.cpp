@@ -50,6 +50,34 @@ bool respondingPair(const btPersistentManifold& manifold)
 		   !(a.isStaticOrKinematicObject() && b.isStaticOrKinematicObject());
 }
 
+bool isRounded(const btCollisionObject& o)
+{
+	const btCollisionShape* shape = o.getCollisionShape();
+	return shape && (shape->getShapeType() == SPHERE_SHAPE_PROXYTYPE || shape->getShapeType() == CAPSULE_SHAPE_PROXYTYPE);
+}
+
+bool isBoxOrPlane(const btCollisionObject& o)
+{
+	const btCollisionShape* shape = o.getCollisionShape();
+	return shape && (shape->getShapeType() == BOX_SHAPE_PROXYTYPE || shape->getShapeType() == STATIC_PLANE_PROXYTYPE);
+}
+
+// A manifold with no point yet (the broadphase found the pair's bounding boxes overlapping, which with Bullet's
+// continuous AABBs include the step's motion; the narrow phase found them farther apart than its threshold) between a
+// movable sphere or capsule and a box or plane fixed partner, both responding: the body's rows need no point (the
+// face under its spheres' centres, faceUnder), so a call that moves the body into the partner sees it. Returns the
+// side of the body, −1 when the manifold is not one.
+int nearFaceSide(const btPersistentManifold& manifold)
+{
+	if (manifold.getNumContacts() > 0) return -1;
+	const btCollisionObject* object[2] = {manifold.getBody0(), manifold.getBody1()};
+	if (!responds(*object[0]) || !responds(*object[1])) return -1;
+	for (int s = 0; s < 2; ++s)
+		if (movableOf(object[s]) && isRounded(*object[s]) && isFixedPartner(*object[1 - s]) && isBoxOrPlane(*object[1 - s]))
+			return s;
+	return -1;
+}
+
 // The velocity (world) of the point `at` of a fixed partner: a kinematic rigid body's velocity (Bullet sets it from
 // its motion each step), a plain kinematic btCollisionObject's interpolation velocity (the app's), zero when static.
 btVector3 partnerVelocity(const btCollisionObject& o, const btVector3& at)
@@ -84,7 +112,8 @@ void scanContacts(btDispatcher& dispatcher, Array<SignatureEntry>& scan, Array<s
 	for (int m = 0; m < dispatcher.getNumManifolds(); ++m)
 	{
 		const btPersistentManifold* manifold = dispatcher.getManifoldByIndexInternal(m);
-		if (!respondingPair(*manifold)) continue;
+		const int near = nearFaceSide(*manifold);
+		if (near < 0 && !respondingPair(*manifold)) continue;
 		const btCollisionObject* object[2] = {manifold->getBody0(), manifold->getBody1()};
 		const btRigidBody* body[2] = {movableOf(object[0]), movableOf(object[1])};
 		const long long number[2] = {body[0] ? firstIndex(body[0]) : -1LL, body[1] ? firstIndex(body[1]) : -1LL};
@@ -168,6 +197,38 @@ void takePartnerFace(const btCollisionObject& partner, btScalar outward, btVecto
 	point -= face * face.dot(point - onFace);  // the point moved onto the face's plane (only n·point enters C)
 }
 
+// The face of a btBoxShape or btStaticPlaneShape partner that the point `at` (world) lies over: its outward normal
+// and a point of its plane, world. A box's is the face whose plane is nearest above the point (the axis it is
+// farthest outside along); false when the point is outside that face's rectangle (beside the box, where its plane is
+// no surface) or the partner is neither shape.
+bool faceUnder(const btCollisionObject& partner, const btVector3& at, btVector3& face, btVector3& onFace)
+{
+	const btCollisionShape* shape = partner.getCollisionShape();
+	if (!shape) return false;
+	const btTransform& t = partner.getWorldTransform();
+	if (shape->getShapeType() == STATIC_PLANE_PROXYTYPE)
+	{
+		const btStaticPlaneShape& plane = *static_cast<const btStaticPlaneShape*>(shape);
+		face = t.getBasis() * plane.getPlaneNormal();
+		onFace = t * (plane.getPlaneNormal() * plane.getPlaneConstant());
+		return true;
+	}
+	if (shape->getShapeType() != BOX_SHAPE_PROXYTYPE) return false;
+	const btVector3 half = static_cast<const btBoxShape*>(shape)->getHalfExtentsWithMargin();
+	const btVector3 local = t.invXform(at);
+	int axis = 0;
+	for (int k = 1; k < 3; ++k)
+		if (btFabs(local[k]) - half[k] > btFabs(local[axis]) - half[axis]) axis = k;
+	for (int k = 0; k < 3; ++k)
+		if (k != axis && btFabs(local[k]) > half[k]) return false;
+	const btScalar side = local[axis] >= 0 ? btScalar(1) : btScalar(-1);
+	face = side * t.getBasis().getColumn(axis);
+	btVector3 centre(0, 0, 0);
+	centre[axis] = side * half[axis];
+	onFace = t * centre;
+	return true;
+}
+
 // The centres of a rounded shape's spheres (a btSphereShape's, a btCapsuleShape's two) in its body's frame, and their
 // radius: a sphere's point deepest towards a plane of normal n is its centre − r n whatever the body's turn, so a row
 // on the centre, its plane point moved by r, is the depth of the shape's deepest point there. Returns how many (0: not
@@ -229,7 +290,8 @@ void gatherContacts(btDispatcher& dispatcher, const Array<std::unique_ptr<Island
 	for (int m = 0; m < dispatcher.getNumManifolds(); ++m)
 	{
 		const btPersistentManifold* manifold = dispatcher.getManifoldByIndexInternal(m);
-		if (!respondingPair(*manifold)) continue;
+		const bool near = nearFaceSide(*manifold) >= 0;
+		if (!near && !respondingPair(*manifold)) continue;
 		const btCollisionObject* object[2] = {manifold->getBody0(), manifold->getBody1()};
 		const btRigidBody* body[2] = {movableOf(object[0]), movableOf(object[1])};
 		const auto found0 = body[0] ? bodyOf.find(body[0]) : bodyOf.end(), found1 = body[1] ? bodyOf.find(body[1]) : bodyOf.end();
@@ -264,6 +326,25 @@ void gatherContacts(btDispatcher& dispatcher, const Array<std::unique_ptr<Island
 		btVector3 centre[2];
 		btScalar radius = 0;
 		const int centres = fixedB ? roundedCentres(*object[a], centre, radius) : 0;
+		if (near)
+		{
+			// no point yet: each centre over a face of the partner gets a row on that face's plane (inactive while the
+			// centre stays more than the radius above it)
+			ContactRow row;
+			row.sign = a == 0 ? btScalar(1) : btScalar(-1);
+			for (int k = 0; k < centres; ++k)
+			{
+				const btVector3 at = object[a]->getWorldTransform() * centre[k];
+				btVector3 face, onFace;
+				if (!faceUnder(*object[1 - a], at, face, onFace)) continue;
+				row.normal = row.sign * face;  // Bullet's convention: the normal on the manifold's body B, towards A
+				row.other = onFace + radius * face;
+				row.partnerVelocity = partnerVelocity(*object[1 - a], row.other);
+				row.local = centre[k];
+				keepDeepest(*set, capacity, row, face.dot(at - row.other));
+			}
+			continue;
+		}
 		for (int p = 0; p < manifold->getNumContacts(); ++p)
 		{
 			const btManifoldPoint& point = manifold->getContactPoint(p);

@@ -7,11 +7,16 @@
 // RagdollDemo's ground; rigid bodies asleep: Bullet sets a kinematic object's pose before its internal steps, so it
 // stands still while the projection runs, and its velocity enters the velocity rows: ContactRow::partnerVelocity) gets
 // one contact slot for them all, a joint of R rows (the island's block size) to a fixed side: a leaf edge, so a tree
-// stays a tree (eliminated first) and BlockLDLT factorizes it without fill. Two island bodies that touch get a pair
+// stays a tree (eliminated first) and BlockLDLT factorizes it without fill. A sphere or capsule whose manifold with a
+// box or plane fixed partner has no point yet (the broadphase pair exists: Bullet's AABBs include the step's motion)
+// gets its slot too, with rows on the face under its spheres' centres: Bullet's narrow phase found no point this
+// step, the integration may still carry the body into the partner, and without a row a call sank such parts up to
+// 1.1e-2 m (double; 2.6e-2 m float), now 3.7e-15 m (2.2e-8 m; tests/test_stabilizer_mixed.cpp, 16 spins). Two island bodies that touch get a pair
 // slot, a joint between them: it joins their islands and usually closes a loop (then SparseLDLT solves the island).
 // Which slots exist is part of the signature: a body that starts or stops touching rebuilds its island (keeping a
-// slot while its manifold lasts, points or none, was measured: fewer rebuilds, but the idle slots and their loops cost
-// more than the rebuilds saved, 1.4 s against 0.95 s on the ragdolls of tests/test_stabilizer_mixed.cpp). Contacts with
+// slot while its manifold lasts, points or none, for every pair was measured: fewer rebuilds, but the idle slots and
+// their loops cost more than the rebuilds saved, 1.4 s against 0.95 s on the ragdolls of
+// tests/test_stabilizer_mixed.cpp; the rounded bodies' slots above are leaves, no loop). Contacts with
 // movable bodies that no projected joint holds are not rows, nor contacts Bullet's solver does not respond to: with a
 // ghost object, with CF_NO_CONTACT_RESPONSE, between two static or kinematic objects.
 // Rows: at the step's start a slot takes its bodies' deepest manifold points (at most R), held for the step: row r is
@@ -21,7 +26,9 @@
 // A), Bullet's distance, negative when penetrating, with J_r = s_r (n_r, a_r × n_r | −n_r, −b_r × n_r), a_r, b_r the points' arms in world. A sphere or
 // capsule on a fixed partner takes its spheres' centres c instead of the manifold's points: C = s n·(c − q) − r, the
 // depth of its deepest point towards the contact plane whatever its turn (q the partner's point, r the radius; the
-// manifold's points are material points, and a turn of the body sinks another part of it than they hold).
+// manifold's points are material points, and a turn of the body sinks another part of it than they hold); with no
+// manifold point yet, q and n are those of the box face (or plane) the centre lies over (none when it is beside the
+// box: its face's plane is no surface there).
 // One-sided, by an active set: a row enters the system once its point penetrates by more than its tolerance and then
 // holds C_r = 0 in the position stage and n·v_rel = 0 (relative to a kinematic partner's velocity) in the velocity stage (which removes the approach and the push-out
 // velocity Bullet's solver gave a penetration the projection has already removed); after a solve, a row whose
