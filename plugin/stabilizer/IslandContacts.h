@@ -41,7 +41,7 @@
 // double, had a step of 40 Newton iterations end 1.7e-4 from converged).
 // Before, a row taken out stayed out: four RagdollDemo ragdolls dropped on the ground had calls that sank a contact
 // 1.1e-2 m (double; 2.0e-3 m float) as the rest of the correction moved its body. Rows the fallback drops
-// (releaseAllContacts) stay out. Inactive rows are zero rows with s on K's diagonal. Their linear part is
+// (releaseContactSlots) stay out. Inactive rows are zero rows with s on K's diagonal. Their linear part is
 // n, not the point rows' ±I: the assembly and the deltas take the general product for contact slots (IslandSystem.h).
 #ifndef QUATHINGE_STABILIZER_ISLAND_CONTACTS_H
 #define QUATHINGE_STABILIZER_ISLAND_CONTACTS_H
@@ -162,16 +162,24 @@ bool releasePullingContacts(BlockIsland<R>& island)
 	return released;
 }
 
-/// Takes every contact row (`pairsOnly`: of the pair slots, contacts between two island bodies) out of the system
-/// for the rest of the step (the position stage's fallback when its Newton steps with them fail:
-/// IslandProjection.cpp). True if any was in the system (else nothing changed: no retry).
+/// Which contact slots releaseContactSlots takes out: the pair slots' (contacts between two island bodies) or all.
+enum class ContactSlots
+{
+	Pairs,
+	All
+};
+
+/// Takes every contact row of `which` slots out of the system for the rest of the step (the position stage's
+/// fallback when its Newton steps with them fail: IslandProjection.cpp). True if any was in the system (else nothing
+/// changed: no retry).
 template <int R>
-bool releaseAllContacts(BlockIsland<R>& island, bool pairsOnly)
+bool releaseContactSlots(BlockIsland<R>& island, ContactSlots which)
 {
 	bool any = false;
 	for (size_t j = 0; j < island.joints.size(); ++j)
 	{
-		if (island.joints[j].contact < 0 || (pairsOnly && island.joints[j].rigid[1] == nullptr)) continue;
+		const bool fixedPartner = island.joints[j].rigid[1] == nullptr;
+		if (island.joints[j].contact < 0 || (which == ContactSlots::Pairs && fixedPartner)) continue;
 		any = any || island.joints[j].contactTouched != 0;
 		releaseContactRows(island, j, (1u << R) - 1);
 		// for good: no depth brings them back this step (the joints alone, as without projectContacts)

@@ -395,9 +395,9 @@ struct IslandStep
 						// closes a loop, and a limb 8 cm into another behind joints at their stops cannot be met:
 						// measured, λ ~1e6 and a first step of 117 m), then, if that does not help either, all: the
 						// joints alone, as without projectContacts.
-						if (contactsDropped == 0 && releaseAllContacts(island, true))
+						if (contactsDropped == 0 && releaseContactSlots(island, ContactSlots::Pairs))
 							contactsDropped = 1;
-						else if (contactsDropped < 2 && releaseAllContacts(island, false))
+						else if (contactsDropped < 2 && releaseContactSlots(island, ContactSlots::All))
 							contactsDropped = 2;
 						else
 							break;
