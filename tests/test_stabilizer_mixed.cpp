@@ -63,19 +63,10 @@ class GroundDepthProbe : public btActionInterface
 {
 public:
 	explicit GroundDepthProbe(const RagdollDemoWorld& world) : m_world(world) {}
-	void updateAction(btCollisionWorld* world, btScalar) override
+	void updateAction(btCollisionWorld*, btScalar) override
 	{
-		depth = m_world.groundPenetration();
+		depth = m_world.groundPenetration(&touching);
 		m_world.partPenetrations(parts, &partBodies);
-		touching.clear();
-		btDispatcher& d = *world->getDispatcher();
-		for (int m = 0; m < d.getNumManifolds(); ++m)
-		{
-			const btPersistentManifold* manifold = d.getManifoldByIndexInternal(m);
-			if (manifold->getNumContacts() == 0) continue;
-			if (manifold->getBody0() == m_world.ground()) touching.push_back(manifold->getBody1());
-			if (manifold->getBody1() == m_world.ground()) touching.push_back(manifold->getBody0());
-		}
 	}
 	void debugDraw(btIDebugDraw*) override {}
 	// m: the most a part (of those touching the ground at `before`'s run, or of the others) is deeper now than then,

@@ -172,9 +172,10 @@ void RagdollDemoWorld::limitsPast(double& hinge, double& cone) const
 	}
 }
 
-double RagdollDemoWorld::groundPenetration() const
+double RagdollDemoWorld::groundPenetration(std::vector<const btCollisionObject*>* touching) const
 {
 	double deepest = 0;
+	if (touching) touching->clear();
 	btDispatcher& d = *m_world->getDispatcher();
 	for (int m = 0; m < d.getNumManifolds(); ++m)
 	{
@@ -182,6 +183,7 @@ double RagdollDemoWorld::groundPenetration() const
 		const bool groundIsB = manifold->getBody1() == m_ground;
 		if (!groundIsB && manifold->getBody0() != m_ground) continue;
 		const btCollisionObject* part = groundIsB ? manifold->getBody0() : manifold->getBody1();
+		if (touching && manifold->getNumContacts() > 0) touching->push_back(part);
 		for (int p = 0; p < manifold->getNumContacts(); ++p)
 		{
 			const btManifoldPoint& point = manifold->getContactPoint(p);

@@ -39,8 +39,9 @@ public:
 	/// the twist, Bullet's own getTwistAngle after calcAngleInfo2, past its twist span).
 	void limitsPast(double& hinge, double& cone) const;
 	/// The deepest penetration (m, ≥ 0) of a contact point into the ground at the bodies' current poses (the
-	/// manifolds' points on the bodies, against the ground's top y = 0).
-	double groundPenetration() const;
+	/// manifolds' points on the bodies, against the ground's top y = 0). `touching` (optional): the parts with a point
+	/// in a manifold with the ground.
+	double groundPenetration(std::vector<const btCollisionObject*>* touching = nullptr) const;
 	/// Each ragdoll part's penetration (m; negative: its clearance) into the ground's top y = 0 at its current pose,
 	/// in the order the parts were made: the depth of the capsule's deepest point (one of its two spheres' bottoms),
 	/// which is what Bullet's next collision detection finds. A manifold point is a material point of the part, and a
