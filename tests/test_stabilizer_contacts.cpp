@@ -7,6 +7,7 @@
 #include "BulletCollision/CollisionDispatch/btGhostObject.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <memory>
 #include <utility>
@@ -201,5 +202,105 @@ TEST(StabilizerContacts, AKinematicGroundRisingIsNotApproachedAfterTheProjection
 	const double separating = link->getVelocityInLocalPoint(at - link->getCenterOfMassPosition()).y() - kRise;
 	std::printf("[ measured ] the deepest point's separation from the rising ground %.3g m/s\n", separating);
 	EXPECT_GE(separating, -kApproachTolerance);
+}
+namespace
+{
+// A heavy ball (the torso, 10 kg, 0.15 m) and a capsule leg (1 kg, radius 5 cm, 0.5 m tip to tip) hinged about z at
+// the ball's centre, 0.4 m above a ground box (a static btCollisionObject, RagdollDemo's kind), with the hinge's limits
+// ±0.1 rad about the leg hanging down; the leg starts horizontal, 1.47 rad past its limit, 0.35 m above the ground:
+// Bullet has no contact for it (its AABB is clear of the ground's). Closing the limit swings it down, and with the
+// torso where it is its tip would go 0.1 m into the ground: the leg must swing and the torso rise.
+struct LegOverTheGround
+{
+	btDefaultCollisionConfiguration configuration;
+	btCollisionDispatcher dispatcher{&configuration};
+	btDbvtBroadphase broadphase;
+	btSequentialImpulseConstraintSolver solver;
+	btDiscreteDynamicsWorld world{&dispatcher, &broadphase, &solver, &configuration};
+	btBoxShape groundShape{btVector3(5, btScalar(0.5), 5)};
+	btCollisionObject ground;
+	btSphereShape torsoShape{btScalar(0.15)};
+	btCapsuleShape legShape{btScalar(0.05), btScalar(0.4)};
+	std::unique_ptr<btRigidBody> torso, leg;
+	std::unique_ptr<btHingeConstraint> hinge;
+	static constexpr double kLegHalf = 0.25;  // m: from the leg's centre to its tip
+	LegOverTheGround()
+	{
+		ground.setCollisionShape(&groundShape);
+		ground.setWorldTransform(btTransform(btQuaternion::getIdentity(), btVector3(0, btScalar(-0.5), 0)));
+		world.addCollisionObject(&ground);
+		btVector3 inertia;
+		torsoShape.calculateLocalInertia(10, inertia);
+		torso.reset(new btRigidBody(10, nullptr, &torsoShape, inertia));
+		torso->setWorldTransform(btTransform(btQuaternion::getIdentity(), btVector3(0, btScalar(0.4), 0)));
+		legShape.calculateLocalInertia(1, inertia);
+		leg.reset(new btRigidBody(1, nullptr, &legShape, inertia));
+		// the leg's axis (its local y) along world −x, its top tip at the torso's centre
+		leg->setWorldTransform(btTransform(btQuaternion(btVector3(0, 0, 1), btScalar(SIMD_HALF_PI)),
+										   btVector3(btScalar(kLegHalf), btScalar(0.4), 0)));
+		for (btRigidBody* b : {torso.get(), leg.get()})
+		{
+			b->setActivationState(DISABLE_DEACTIVATION);
+			world.addRigidBody(b);
+		}
+		// angle 0: the leg hanging down (its frame aligned with the torso's)
+		hinge.reset(new btHingeConstraint(*torso, *leg, btTransform::getIdentity(),
+										  btTransform(btQuaternion::getIdentity(), btVector3(0, btScalar(kLegHalf), 0))));
+		hinge->setLimit(btScalar(-0.1), btScalar(0.1));
+		world.addConstraint(hinge.get(), true);
+	}
+	~LegOverTheGround()
+	{
+		world.removeConstraint(hinge.get());
+		world.removeRigidBody(leg.get());
+		world.removeRigidBody(torso.get());
+		world.removeCollisionObject(&ground);
+	}
+	// m: how deep the leg's lowest point is below the ground's top (negative: its clearance)
+	double legDepth() const
+	{
+		const btTransform& t = leg->getWorldTransform();
+		const btVector3 tip(0, legShape.getHalfHeight(), 0);
+		return double(legShape.getRadius()) - std::min(double((t * tip).y()), double((t * -tip).y()));
+	}
+};
+}  // namespace
+
+TEST(StabilizerContacts, APartSwungIntoAGroundItHadNoContactWithIsHeld)
+{
+	// One step with the stabilizer: its projection closes the leg's limit; a first pass that swings the leg into the
+	// ground (no contact row: Bullet had no manifold for it) is found after the projection and the call is done again
+	// with rows for the leg on the ground's face (getLastStats().nearFacePairs). Without projectContacts the leg goes
+	// in, which shows the scene asks the question.
+	for (bool contacts : {false, true})
+	{
+		LegOverTheGround w;
+		ASSERT_LT(w.legDepth(), -0.3) << "the leg starts clear of the ground";
+		btQuaternionHingeStabilizerSettings settings;
+		settings.projectContacts = contacts;
+		btQuaternionHingeStabilizer stabilizer(settings);
+		w.world.addAction(&stabilizer);
+		w.world.stepSimulation(kTimeStep, 0, kTimeStep);
+		w.world.removeAction(&stabilizer);
+		const btQuaternionHingeStabilizerStats& stats = stabilizer.getLastStats();
+		const double angle = double(w.hinge->getHingeAngle());
+		const double separation = double((w.torso->getWorldTransform() * btVector3(0, 0, 0) -
+										  w.leg->getWorldTransform() * btVector3(0, btScalar(LegOverTheGround::kLegHalf), 0))
+											 .length());
+		std::printf(
+			"[ measured ] projectContacts %d: leg depth %.3e m, hinge angle %.4f rad, pivot %.2e m, torso at y %.4f m, "
+			"near-face pairs %d\n",
+			int(contacts), w.legDepth(), angle, separation, double(w.torso->getWorldTransform().getOrigin().y()),
+			stats.nearFacePairs);
+		EXPECT_LE(separation, kSeparationTolerance);
+		EXPECT_LE(std::fabs(angle), 0.1 + 1e-3);  // rad: the limit, to the 1e-3 rad
+		if (!contacts)
+		{
+			EXPECT_GT(w.legDepth(), 0.02);  // m: the leg went in (measured 3.8e-2 m: the limit leaves it 0.1 rad from vertical)
+			continue;
+		}
+		EXPECT_EQ(stats.nearFacePairs, 1);
+		EXPECT_LE(w.legDepth(), kSeparationTolerance);  // m: at the ground's face, not in it
+	}
 }
 #endif

@@ -1,7 +1,10 @@
 // Contacts as rows of the projection: which bodies get a contact slot, and their points each step (IslandContacts.h).
 #include "IslandContacts.h"
 
+#include "BulletCollision/BroadphaseCollision/btBroadphaseInterface.h"
 #include "BulletCollision/BroadphaseCollision/btDispatcher.h"
+#include "BulletCollision/BroadphaseCollision/btOverlappingPairCache.h"
+#include "BulletCollision/CollisionDispatch/btCollisionWorld.h"
 #include "BulletCollision/CollisionShapes/btBoxShape.h"
 #include "BulletCollision/CollisionShapes/btCapsuleShape.h"
 #include "BulletCollision/CollisionShapes/btSphereShape.h"
@@ -91,11 +94,12 @@ btVector3 partnerVelocity(const btCollisionObject& o, const btVector3& at)
 }
 }  // namespace
 
-void scanContacts(btDispatcher& dispatcher, Array<SignatureEntry>& scan, Array<std::pair<const btRigidBody*, long long>>& index)
+void scanContacts(btDispatcher& dispatcher, const Array<NearPair>& near, Array<SignatureEntry>& scan,
+				  Array<std::pair<const btRigidBody*, long long>>& index)
 {
 	// the movable bodies of the joints, numbered by first appearance (the scan's order, not the pointers'), found by
 	// binary search in `index` (sorted by pointer; kept by the caller, so its capacity stays)
-	if (dispatcher.getNumManifolds() == 0) return;  // a world without contacts (a hanging chain) pays nothing more
+	if (dispatcher.getNumManifolds() == 0 && near.empty()) return;  // a world without contacts (a hanging chain) pays nothing more
 	const size_t joints = scan.size();
 	index.clear();
 	for (size_t i = 0; i < joints; ++i)
@@ -139,6 +143,19 @@ void scanContacts(btDispatcher& dispatcher, Array<SignatureEntry>& scan, Array<s
 			e.flags = SignatureEntry::kMovableA | SignatureEntry::kContact;
 			e.order = number[s];
 		}
+		scan.push_back(e);
+	}
+	for (const NearPair& pair : near)
+	{
+		const long long number = firstIndex(movableOf(pair.body));
+		if (number < 0) continue;
+		SignatureEntry e;
+		e.joint = nullptr;
+		e.point = nullptr;
+		e.body[0] = const_cast<btRigidBody*>(movableOf(pair.body));
+		e.body[1] = nullptr;
+		e.flags = SignatureEntry::kMovableA | SignatureEntry::kContact;
+		e.order = number;
 		scan.push_back(e);
 	}
 	// in the order of the bodies' first appearance among the joints (the dispatcher's order of manifolds changes as
@@ -281,17 +298,41 @@ void keepDeepest(ContactSet& set, int capacity, const ContactRow& row, btScalar 
 	set.rows[at] = row;
 	set.distance[at] = distance;
 }
+
+// Rows for a sphere or capsule `body` (the slot's body A; `sign` +1 when it is the manifold's body 0, or with no
+// manifold) against a box or plane fixed `partner` with no manifold point: each of its spheres' centres over a face
+// of the partner gets a row on that face's plane (inactive while the centre stays more than the radius above it).
+void addFaceRows(ContactSet& set, int capacity, const btCollisionObject& body, const btCollisionObject& partner, btScalar sign)
+{
+	btVector3 centre[2];
+	btScalar radius = 0;
+	const int centres = roundedCentres(body, centre, radius);
+	ContactRow row;
+	row.sign = sign;
+	for (int k = 0; k < centres; ++k)
+	{
+		const btVector3 at = body.getWorldTransform() * centre[k];
+		btVector3 face, onFace;
+		if (!faceUnder(partner, at, face, onFace)) continue;
+		row.normal = sign * face;  // Bullet's convention: the normal on the manifold's body B, towards A
+		row.other = onFace + radius * face;
+		row.partnerVelocity = partnerVelocity(partner, row.other);
+		row.local = centre[k];
+		keepDeepest(set, capacity, row, face.dot(at - row.other));
+	}
+}
 }  // namespace
 
-void gatherContacts(btDispatcher& dispatcher, const Array<std::unique_ptr<Island>>& islands, const IslandBodyMap& bodyOf)
+void gatherContacts(btDispatcher& dispatcher, const Array<NearPair>& near, const Array<std::unique_ptr<Island>>& islands,
+					const IslandBodyMap& bodyOf)
 {
 	for (const auto& island : islands)
 		for (ContactSet& set : island->contacts) set.count = 0;
 	for (int m = 0; m < dispatcher.getNumManifolds(); ++m)
 	{
 		const btPersistentManifold* manifold = dispatcher.getManifoldByIndexInternal(m);
-		const bool near = nearFaceSide(*manifold) >= 0;
-		if (!near && !respondingPair(*manifold)) continue;
+		const bool nearFace = nearFaceSide(*manifold) >= 0;
+		if (!nearFace && !respondingPair(*manifold)) continue;
 		const btCollisionObject* object[2] = {manifold->getBody0(), manifold->getBody1()};
 		const btRigidBody* body[2] = {movableOf(object[0]), movableOf(object[1])};
 		const auto found0 = body[0] ? bodyOf.find(body[0]) : bodyOf.end(), found1 = body[1] ? bodyOf.find(body[1]) : bodyOf.end();
@@ -326,23 +367,10 @@ void gatherContacts(btDispatcher& dispatcher, const Array<std::unique_ptr<Island
 		btVector3 centre[2];
 		btScalar radius = 0;
 		const int centres = fixedB ? roundedCentres(*object[a], centre, radius) : 0;
-		if (near)
+		if (nearFace)
 		{
-			// no point yet: each centre over a face of the partner gets a row on that face's plane (inactive while the
-			// centre stays more than the radius above it)
-			ContactRow row;
-			row.sign = a == 0 ? btScalar(1) : btScalar(-1);
-			for (int k = 0; k < centres; ++k)
-			{
-				const btVector3 at = object[a]->getWorldTransform() * centre[k];
-				btVector3 face, onFace;
-				if (!faceUnder(*object[1 - a], at, face, onFace)) continue;
-				row.normal = row.sign * face;  // Bullet's convention: the normal on the manifold's body B, towards A
-				row.other = onFace + radius * face;
-				row.partnerVelocity = partnerVelocity(*object[1 - a], row.other);
-				row.local = centre[k];
-				keepDeepest(*set, capacity, row, face.dot(at - row.other));
-			}
+			// no point yet: rows on the face under its spheres' centres
+			addFaceRows(*set, capacity, *object[a], *object[1 - a], a == 0 ? btScalar(1) : btScalar(-1));
 			continue;
 		}
 		for (int p = 0; p < manifold->getNumContacts(); ++p)
@@ -376,6 +404,126 @@ void gatherContacts(btDispatcher& dispatcher, const Array<std::unique_ptr<Island
 			}
 		}
 	}
+	for (const NearPair& pair : near)
+	{
+		const auto found = bodyOf.find(pair.body);
+		if (found == bodyOf.end() || found->second.second->contactSet < 0) continue;
+		Island& island = *found->second.first;
+		addFaceRows(island.contacts[size_t(found->second.second->contactSet)], (std::min)(island.blockRows, kMaxContactRows),
+					*pair.body, *pair.partner, btScalar(1));
+	}
+}
+
+void saveCallStart(const Array<std::unique_ptr<Island>>& islands, Array<CallStart>& saved)
+{
+	saved.clear();
+	for (const auto& island : islands)
+		for (const IslandBody& b : island->bodies)
+			saved.push_back({b.rigid->getWorldTransform(), b.rigid->getInterpolationWorldTransform(),
+							 b.rigid->getLinearVelocity(), b.rigid->getAngularVelocity()});
+}
+
+void restoreCallStart(const Array<std::unique_ptr<Island>>& islands, const Array<CallStart>& saved)
+{
+	size_t k = 0;
+	for (const auto& island : islands)
+	{
+		for (IslandBody& b : island->bodies)
+		{
+			const CallStart& c = saved[k++];
+			b.rigid->setWorldTransform(c.transform);
+			b.rigid->setInterpolationWorldTransform(c.interpolation);
+			b.rigid->setLinearVelocity(c.linear);
+			b.rigid->setAngularVelocity(c.angular);
+			b.rigid->setInterpolationLinearVelocity(c.linear);
+			b.rigid->setInterpolationAngularVelocity(c.angular);
+			b.rigid->updateInertiaTensor();
+		}
+		island->inverseMassesStale = true;
+	}
+}
+
+namespace
+{
+// The island body's overlapping broadphase proxies that are box or plane fixed partners it collides with.
+struct FacePartners : btBroadphaseAabbCallback
+{
+	FacePartners(btCollisionWorld& w, const btCollisionObject& b) : world(w), body(b) {}
+	bool process(const btBroadphaseProxy* proxy) override
+	{
+		const btCollisionObject* o = static_cast<const btCollisionObject*>(proxy->m_clientObject);
+		if (!o || o == &body || !responds(*o) || !isFixedPartner(*o) || !isBoxOrPlane(*o)) return true;
+		const btBroadphaseProxy* own = body.getBroadphaseHandle();
+		if (!own) return true;
+		const btOverlapFilterCallback* filter = world.getPairCache()->getOverlapFilterCallback();
+		const bool collides =
+			filter ? filter->needBroadphaseCollision(const_cast<btBroadphaseProxy*>(own), const_cast<btBroadphaseProxy*>(proxy))
+				   : (own->m_collisionFilterGroup & proxy->m_collisionFilterMask) != 0 &&
+						 (proxy->m_collisionFilterGroup & own->m_collisionFilterMask) != 0;
+		if (collides && body.checkCollideWith(o) && o->checkCollideWith(&body)) partners.push_back(o);
+		return true;
+	}
+	btCollisionWorld& world;
+	const btCollisionObject& body;
+	Array<const btCollisionObject*> partners;
+};
+
+// The depth (m; negative: clearance) of a rounded body's deepest point at `pose` towards the face of `partner` that
+// its spheres' centres lie over at `over`'s pose (the face is chosen at the call's end and kept for both poses).
+btScalar faceDepth(const btVector3* centre, int centres, btScalar radius, const btTransform& pose, const btTransform& over,
+				   const btCollisionObject& partner, bool& found)
+{
+	btScalar deepest = -SIMD_INFINITY;
+	found = false;
+	for (int k = 0; k < centres; ++k)
+	{
+		btVector3 face, onFace;
+		if (!faceUnder(partner, over * centre[k], face, onFace)) continue;
+		found = true;
+		deepest = btMax(deepest, radius - face.dot(pose * centre[k] - onFace));
+	}
+	return deepest;
+}
+}  // namespace
+
+bool findSunkBodies(btCollisionWorld& world, const Array<std::unique_ptr<Island>>& islands, const Array<CallStart>& saved,
+					btScalar tolerance, btScalar timeStep, Array<NearPair>& near)
+{
+	bool any = false;
+	size_t k = 0;
+	for (const auto& island : islands)
+		for (const IslandBody& b : island->bodies)
+		{
+			const CallStart& start = saved[k++];
+			if (b.contactSet >= 0 || !responds(*b.rigid)) continue;
+			btVector3 centre[2];
+			btScalar radius = 0;
+			const int centres = roundedCentres(*b.rigid, centre, radius);
+			if (centres == 0) continue;
+			// how far any point of it moved since Bullet's broadphase: the integration (the velocities it used, those
+			// at the call's start) and the call
+			const btScalar reach = radius + centre[0].length();
+			const btTransform& now = b.rigid->getWorldTransform();
+			const btScalar turned = (now.getRotation() * start.transform.getRotation().inverse()).getAngleShortestPath();
+			const btScalar moved = (start.linear.length() + start.angular.length() * reach) * timeStep +
+								   (now.getOrigin() - start.transform.getOrigin()).length() + turned * reach;
+			if (moved < gContactBreakingThreshold) continue;
+			btVector3 lo, hi;
+			b.rigid->getCollisionShape()->getAabb(now, lo, hi);
+			FacePartners query(world, *b.rigid);
+			world.getBroadphase()->aabbTest(lo, hi, query);
+			for (const btCollisionObject* partner : query.partners)
+			{
+				bool found = false;
+				const btScalar after = faceDepth(centre, centres, radius, now, now, *partner, found);
+				if (!found || after <= tolerance) continue;
+				const btScalar before = faceDepth(centre, centres, radius, start.transform, now, *partner, found);
+				if (after <= btMax(before, btScalar(0)) + tolerance) continue;
+				near.push_back({b.rigid, partner});
+				any = true;
+			}
+		}
+	return any;
 }
 
 }  // namespace stabilizer

@@ -52,20 +52,56 @@
 
 #include <utility>
 
+class btCollisionWorld;
 class btDispatcher;
 
 namespace quathinge
 {
 namespace stabilizer
 {
-/// Appends the contact entries (SignatureEntry::kContact) to `scan`'s joints: a fixed-partner slot for every island
-/// body with a manifold point against a fixed partner, a pair slot for every two island bodies with one, in the order
-/// of the bodies' first appearance among the joints (not the dispatcher's order of manifolds, which changes).
-/// `index`: scratch, kept by the caller (no allocation once it has grown).
-void scanContacts(btDispatcher& dispatcher, Array<SignatureEntry>& scan, Array<std::pair<const btRigidBody*, long long>>& index);
+/// A sphere or capsule island body and a box or plane fixed partner it had no slot with, which a call's projection
+/// sank it into (findSunkBodies): the call is done again with a slot for the pair, its rows on the face under the
+/// body's spheres' centres. Lives for that call only (no pointer is kept across calls).
+struct NearPair
+{
+	const btCollisionObject* body;
+	const btCollisionObject* partner;
+};
 
-/// Fills every contact slot's ContactSet with its bodies' deepest manifold points, now.
-void gatherContacts(btDispatcher& dispatcher, const Array<std::unique_ptr<Island>>& islands, const IslandBodyMap& bodyOf);
+/// Appends the contact entries (SignatureEntry::kContact) to `scan`'s joints: a fixed-partner slot for every island
+/// body with a manifold point against a fixed partner (or an empty manifold, a sphere or capsule against a box or
+/// plane; or a `near` pair), a pair slot for every two island bodies with one, in the order of the bodies' first
+/// appearance among the joints (not the dispatcher's order of manifolds, which changes). `index`: scratch, kept by
+/// the caller (no allocation once it has grown).
+void scanContacts(btDispatcher& dispatcher, const Array<NearPair>& near, Array<SignatureEntry>& scan,
+				  Array<std::pair<const btRigidBody*, long long>>& index);
+
+/// Fills every contact slot's ContactSet with its bodies' deepest manifold points (and the `near` pairs' face rows),
+/// now.
+void gatherContacts(btDispatcher& dispatcher, const Array<NearPair>& near, const Array<std::unique_ptr<Island>>& islands,
+					const IslandBodyMap& bodyOf);
+
+/// An island body's state at a call's start, put back when the call is done again (findSunkBodies).
+struct CallStart
+{
+	btTransform transform, interpolation;
+	btVector3 linear, angular;
+};
+
+/// Saves every island body's CallStart, in the islands' order of bodies.
+void saveCallStart(const Array<std::unique_ptr<Island>>& islands, Array<CallStart>& saved);
+
+/// Puts every island body back to its CallStart (the islands those were saved from).
+void restoreCallStart(const Array<std::unique_ptr<Island>>& islands, const Array<CallStart>& saved);
+
+/// After the projection: the spheres and capsules of the islands with no fixed-partner slot (Bullet had no manifold
+/// for them against a fixed partner) that the call moved into a box or plane fixed partner, by their own deepest point
+/// deeper than at the call's start by more than `tolerance` (m). Appends each (body, partner) to `near`; true if any.
+/// Only bodies that the step's integration and the call together moved by Bullet's contact threshold or more are
+/// looked at: a body with no manifold against a partner was farther from it than that when Bullet's broadphase ran
+/// (its AABBs are grown by gContactBreakingThreshold), so a smaller move cannot reach it.
+bool findSunkBodies(btCollisionWorld& world, const Array<std::unique_ptr<Island>>& islands, const Array<CallStart>& saved,
+					btScalar tolerance, btScalar timeStep, Array<NearPair>& near);
 
 /// The contact slot's rows at its bodies' current transforms into C and J (rows of the block), growing the active set
 /// with rows penetrating by more than `threshold` (a row taken out this step: deeper than at the step's start by

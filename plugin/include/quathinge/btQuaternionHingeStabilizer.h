@@ -228,6 +228,7 @@ struct btQuaternionHingeStabilizerStats
 	int activeLimitRows = 0;              ///< limit rows projected (violated at some iteration)
 	int limitReleases = 0;                ///< … of which taken out again because they pulled (a stop only pushes)
 	int contactRows = 0;                  ///< contact rows projected (projectContacts: penetrating at some iteration)
+	int nearFacePairs = 0;                ///< spheres and capsules the projection sank into a box or plane fixed partner they had no contact with: the call was done again from its start with rows for them (projectContacts)
 	btScalar residualBefore = 0;          ///< ‖C‖∞ before the position projection
 	btScalar residualAfter = 0;           ///< ‖C‖∞ after it (at the final positions)
 	btScalar velocityResidualBefore = 0;  ///< ‖J v‖∞ (m/s, rad/s) before the velocity projection
