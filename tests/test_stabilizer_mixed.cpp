@@ -54,43 +54,6 @@ struct Figures
 	double coneSeparationLate = 0, groundPenetrationLate = 0, bodyPenetrationLate = 0;
 };
 
-// An action that records, when it runs, the deepest ground contact (RagdollDemoWorld::groundPenetration: the
-// manifolds' points at the bodies' current transforms, not Bullet's stored distances, which are those of the last
-// collision detection), each ragdoll part's own penetration (RagdollDemoWorld::partPenetrations) and which parts
-// touch the ground (a ground manifold with a point): added just before and just after the stabilizer, the pair
-// measures what one call of it did to the contacts.
-class GroundDepthProbe : public btActionInterface
-{
-public:
-	explicit GroundDepthProbe(const RagdollDemoWorld& world) : m_world(world) {}
-	void updateAction(btCollisionWorld*, btScalar) override
-	{
-		depth = m_world.groundPenetration(&touching);
-		m_world.partPenetrations(parts, &partBodies);
-	}
-	void debugDraw(btIDebugDraw*) override {}
-	// m: the most a part (of those touching the ground at `before`'s run, or of the others) is deeper now than then,
-	// penetrations only (a part that leaves the ground, or stays above it, deepens nothing)
-	double deepeningSince(const GroundDepthProbe& before, bool touchingParts) const
-	{
-		double most = 0;
-		for (size_t i = 0; i < parts.size() && i < before.parts.size(); ++i)
-		{
-			const bool touched =
-				std::find(before.touching.begin(), before.touching.end(), partBodies[i]) != before.touching.end();
-			if (touched == touchingParts) most = std::max(most, std::max(parts[i], 0.0) - std::max(before.parts[i], 0.0));
-		}
-		return most;
-	}
-	double depth = 0;                                  // m
-	std::vector<double> parts;                         // m
-	std::vector<const btCollisionObject*> partBodies;  // … whose
-	std::vector<const btCollisionObject*> touching;    // the parts touching the ground
-
-private:
-	const RagdollDemoWorld& m_world;
-};
-
 class MixedRagdolls
 {
 public:
@@ -225,7 +188,7 @@ private:
 	std::vector<std::unique_ptr<btTypedConstraint>> m_constraints;
 	RagdollDemoWorld m_demo;  // the ground (a static btRigidBody, as BenchmarkDemo's) and the four ragdolls
 	btQuaternionHingeStabilizer m_stabilizer;
-	GroundDepthProbe m_beforeCall{m_demo}, m_afterCall{m_demo};
+	RagdollGroundProbe m_beforeCall{m_demo}, m_afterCall{m_demo};
 	bool m_stabilized = false;
 };
 
@@ -360,7 +323,7 @@ TEST(StabilizerMixed, RagdollDemoWithItsContactsProjectedRestsShallowerThanWitho
 
 TEST(StabilizerMixed, RagdollDemoWithItsConeTwistLimitsProjectedPullsNoLimbIntoTheGround)
 {
-	// projectConeTwistLimits (off by default) on top. A stop only pushes: a limit row whose multiplier pulls while its
+	// projectConeTwistLimits on top (a default now; the kinds above set it off). A stop only pushes: a limit row whose multiplier pulls while its
 	// joint is inside the stop leaves the position stage's system (IslandProjection.cpp, releasePullingLimits). Before
 	// that rule, a row entered at a Newton step that was then undone stayed as an equation 0.77 rad from its stop at
 	// the restored pose (double, spin 0, t = 0.62 s): the call dropped its contact rows and pulled a shin 0.104 m into

@@ -9,6 +9,7 @@
 
 #include <btBulletDynamicsCommon.h>
 
+#include <algorithm>
 #include <memory>
 #include <vector>
 
@@ -63,6 +64,44 @@ private:
 	std::vector<std::unique_ptr<btRigidBody>> m_bodies;
 	std::vector<std::unique_ptr<btTypedConstraint>> m_constraints;
 };
+
+/// An action that records, when it runs, the deepest ground contact (RagdollDemoWorld::groundPenetration: the
+/// manifolds' points at the bodies' current transforms, not Bullet's stored distances, which are those of the last
+/// collision detection), each ragdoll part's own penetration (RagdollDemoWorld::partPenetrations) and which parts
+/// touch the ground (a ground manifold with a point): added just before and just after the stabilizer, the pair
+/// measures what one call of it did to the contacts.
+class RagdollGroundProbe : public btActionInterface
+{
+public:
+	explicit RagdollGroundProbe(const RagdollDemoWorld& world) : m_world(world) {}
+	void updateAction(btCollisionWorld*, btScalar) override
+	{
+		depth = m_world.groundPenetration(&touching);
+		m_world.partPenetrations(parts, &partBodies);
+	}
+	void debugDraw(btIDebugDraw*) override {}
+	// m: the most a part (of those touching the ground at `before`'s run, or of the others) is deeper now than then,
+	// penetrations only (a part that leaves the ground, or stays above it, deepens nothing)
+	double deepeningSince(const RagdollGroundProbe& before, bool touchingParts) const
+	{
+		double most = 0;
+		for (size_t i = 0; i < parts.size() && i < before.parts.size(); ++i)
+		{
+			const bool touched =
+				std::find(before.touching.begin(), before.touching.end(), partBodies[i]) != before.touching.end();
+			if (touched == touchingParts) most = std::max(most, std::max(parts[i], 0.0) - std::max(before.parts[i], 0.0));
+		}
+		return most;
+	}
+	double depth = 0;                                  // m
+	std::vector<double> parts;                         // m
+	std::vector<const btCollisionObject*> partBodies;  // … whose
+	std::vector<const btCollisionObject*> touching;    // the parts touching the ground
+
+private:
+	const RagdollDemoWorld& m_world;
+};
+
 }  // namespace qh_test
 
 #endif

@@ -93,11 +93,10 @@ struct btQuaternionHingeStabilizerSettings
 	/// docs/MATH.md, "Cone-twist limits"), acting past the spans themselves (a softness below 1 leaves the band from
 	/// softness × span to Bullet), unless its motor is on or a swing span is under its fix threshold. RagdollDemo
 	/// ragdolls then stay within their cone limits to the tolerance, where with this off the projection of the
-	/// joints pushes them further past than Bullet alone leaves them (docs/STABILIZER.md, "Ragdolls"). Off by
-	/// default: the large corrections it makes where a ragdoll lands can turn a limb into the ground where the
-	/// contact rows, which hold the manifold's points, do not see it (docs/STABILIZER.md), and a pile's landing can
-	/// take more than the default maxIterations in double precision.
-	bool projectConeTwistLimits = false;
+	/// joints pushes them further past than Bullet alone leaves them (docs/STABILIZER.md, "Ragdolls"). On by default
+	/// (off before 0.2.0's last change: its large corrections, where a ragdoll lands or starts, turned limbs into the
+	/// ground where no contact row held them, which the rows for spheres and capsules near a box or plane now do).
+	bool projectConeTwistLimits = true;
 	/// Also project the 6-dofs whose three angles are locked at 0 — a slider (btGeneric6DofSpring2Constraint,
 	/// btGeneric6DofConstraint or btGeneric6DofSpringConstraint with one or two linear axes free or limited: a URDF
 	/// prismatic joint as pybullet builds it; a btSliderConstraint with its turn locked at 0, as Bullet makes it) or a weld (all six locked; btFixedConstraint) — as rows of the same islands: one per locked linear axis along frame A's axes and three for
