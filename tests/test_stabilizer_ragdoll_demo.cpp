@@ -13,6 +13,7 @@
 #include <cmath>
 #include <cstdio>
 #include <utility>
+#include <vector>
 
 using namespace qh_test;
 
@@ -159,5 +160,57 @@ TEST(StabilizerRagdollDemo, APileOfTwentyOnARigidBodyGround)
 	GTEST_SKIP() << "the sanitizer build runs the pile on the btCollisionObject ground only";
 #endif
 	check(RagdollGround::StaticBody, 20);
+}
+TEST(StabilizerRagdollDemo, OneHangingByItsHeadFromAPoint)
+{
+	// A ragdoll hung by its head from a fixed point (a btPoint2PointConstraint to the world, 2 m above the ground),
+	// spun, swinging for 4 s: with the defaults every joint, the hanging point's included, holds from t = 0.5 s and
+	// every hinge and cone twist stays within its limits; without the stabilizer they part and go past.
+	for (bool stabilized : {false, true})
+	{
+		RagdollDemoWorld w(RagdollGround::CollisionObject);
+		w.addRagdoll(btVector3(0, 1, 0), btScalar(0.3), btScalar(2));
+		std::vector<double> depths;
+		std::vector<const btCollisionObject*> parts;
+		w.partPenetrations(depths, &parts);
+		ASSERT_GE(parts.size(), size_t(3));
+		// RagdollDemo's parts: pelvis, spine, head, …
+		btRigidBody& head = *const_cast<btRigidBody*>(btRigidBody::upcast(parts[2]));
+		const btVector3 top(0, btScalar(0.1), 0);  // on the head's axis, above its centre
+		btPoint2PointConstraint hang(head, top);   // to the world where that point is now
+		w.world().addConstraint(&hang, true);
+		btQuaternionHingeStabilizer stabilizer;
+		if (stabilized) w.world().addAction(&stabilizer);
+		double hinge = 0, cone = 0, point = 0, hingePast = 0, conePast = 0;
+		for (int s = 0; s < 240; ++s)
+		{
+			w.world().stepSimulation(kTimeStep, 0, kTimeStep);
+			if (s + 1 < 30) continue;
+			double h = 0, c = 0;
+			w.jointSeparations(h, c);
+			hinge = std::max(hinge, h);
+			cone = std::max(cone, c);
+			point = std::max(point, double((head.getCenterOfMassTransform() * hang.getPivotInA() - hang.getPivotInB()).length()));
+			w.limitsPast(h, c);
+			hingePast = std::max(hingePast, h);
+			conePast = std::max(conePast, c);
+		}
+		if (stabilized) w.world().removeAction(&stabilizer);
+		w.world().removeConstraint(&hang);
+		std::printf(
+			"[ measured ] a ragdoll hanging by its head, %s: hinges %.2e m, cone twists %.2e m, the hanging point "
+			"%.2e m; past the limits: hinges %.2e rad, cone twists %.2e rad\n",
+			stabilized ? "defaults" : "no stabilizer", hinge, cone, point, hingePast, conePast);
+		if (!stabilized)
+		{
+			EXPECT_GT(std::max(hinge, cone), 10 * kSeparationTolerance);  // the scene asks the question
+			continue;
+		}
+		EXPECT_LE(hinge, kSeparationTolerance);
+		EXPECT_LE(cone, kSeparationTolerance);
+		EXPECT_LE(point, kSeparationTolerance);
+		EXPECT_LE(hingePast, kLimitPastTolerance);
+		EXPECT_LE(conePast, kLimitPastTolerance);
+	}
 }
 #endif
