@@ -113,50 +113,48 @@ void scanContacts(btDispatcher& dispatcher, const Array<NearPair>& near, Array<S
 		return at != index.end() && at->first == body ? at->second : -1LL;
 	};
 	const long long kPairs = 1LL << 50;  // a pair's key: its two bodies' numbers, after every fixed-partner slot
-	for (int m = 0; m < dispatcher.getNumManifolds(); ++m)
-	{
-		const btPersistentManifold* manifold = dispatcher.getManifoldByIndexInternal(m);
-		const int near = nearFaceSide(*manifold);
-		if (near < 0 && !respondingPair(*manifold)) continue;
-		const btCollisionObject* object[2] = {manifold->getBody0(), manifold->getBody1()};
-		const btRigidBody* body[2] = {movableOf(object[0]), movableOf(object[1])};
-		const long long number[2] = {body[0] ? firstIndex(body[0]) : -1LL, body[1] ? firstIndex(body[1]) : -1LL};
+	// an island body's slot for all its fixed partners
+	auto addFixedPartnerSlot = [&](const btRigidBody* body, long long number) {
 		SignatureEntry e;
 		e.joint = nullptr;
 		e.point = nullptr;
-		if (number[0] >= 0 && number[1] >= 0)
-		{
-			// two island bodies: a pair slot, its body A the one that comes first
-			const int first = number[0] < number[1] ? 0 : 1;
-			e.body[0] = const_cast<btRigidBody*>(body[first]);
-			e.body[1] = const_cast<btRigidBody*>(body[1 - first]);
-			e.flags = SignatureEntry::kMovableA | SignatureEntry::kMovableB | SignatureEntry::kContact;
-			e.order = kPairs + number[first] * (1LL << 24) + number[1 - first];
-		}
-		else
-		{
-			// an island body and a fixed partner: the body's slot for all its fixed partners
-			const int s = number[0] >= 0 ? 0 : 1;
-			if (number[s] < 0 || !isFixedPartner(*object[1 - s])) continue;  // neither, or a movable body outside
-			e.body[0] = const_cast<btRigidBody*>(body[s]);
-			e.body[1] = nullptr;
-			e.flags = SignatureEntry::kMovableA | SignatureEntry::kContact;
-			e.order = number[s];
-		}
-		scan.push_back(e);
-	}
-	for (const NearPair& pair : near)
-	{
-		const long long number = firstIndex(movableOf(pair.body));
-		if (number < 0) continue;
-		SignatureEntry e;
-		e.joint = nullptr;
-		e.point = nullptr;
-		e.body[0] = const_cast<btRigidBody*>(movableOf(pair.body));
+		e.body[0] = const_cast<btRigidBody*>(body);
 		e.body[1] = nullptr;
 		e.flags = SignatureEntry::kMovableA | SignatureEntry::kContact;
 		e.order = number;
 		scan.push_back(e);
+	};
+	for (int m = 0; m < dispatcher.getNumManifolds(); ++m)
+	{
+		const btPersistentManifold* manifold = dispatcher.getManifoldByIndexInternal(m);
+		if (nearFaceSide(*manifold) < 0 && !respondingPair(*manifold)) continue;
+		const btCollisionObject* object[2] = {manifold->getBody0(), manifold->getBody1()};
+		const btRigidBody* body[2] = {movableOf(object[0]), movableOf(object[1])};
+		const long long number[2] = {body[0] ? firstIndex(body[0]) : -1LL, body[1] ? firstIndex(body[1]) : -1LL};
+		if (number[0] >= 0 && number[1] >= 0)
+		{
+			// two island bodies: a pair slot, its body A the one that comes first
+			const int first = number[0] < number[1] ? 0 : 1;
+			SignatureEntry e;
+			e.joint = nullptr;
+			e.point = nullptr;
+			e.body[0] = const_cast<btRigidBody*>(body[first]);
+			e.body[1] = const_cast<btRigidBody*>(body[1 - first]);
+			e.flags = SignatureEntry::kMovableA | SignatureEntry::kMovableB | SignatureEntry::kContact;
+			e.order = kPairs + number[first] * (1LL << 24) + number[1 - first];
+			scan.push_back(e);
+			continue;
+		}
+		// an island body and a fixed partner
+		const int s = number[0] >= 0 ? 0 : 1;
+		if (number[s] < 0 || !isFixedPartner(*object[1 - s])) continue;  // neither, or a movable body outside
+		addFixedPartnerSlot(body[s], number[s]);
+	}
+	for (const NearPair& pair : near)
+	{
+		const btRigidBody* body = movableOf(pair.body);
+		const long long number = body ? firstIndex(body) : -1LL;
+		if (number >= 0) addFixedPartnerSlot(body, number);
 	}
 	// in the order of the bodies' first appearance among the joints (the dispatcher's order of manifolds changes as
 	// they come and go), each slot once (a body with several fixed partners, two manifolds of one pair)
@@ -168,6 +166,22 @@ void scanContacts(btDispatcher& dispatcher, const Array<NearPair>& near, Array<S
 
 namespace
 {
+// A btStaticPlaneShape partner's plane: its outward normal and a point of it, world.
+void planeFace(const btStaticPlaneShape& plane, const btTransform& t, btVector3& face, btVector3& onFace)
+{
+	face = t.getBasis() * plane.getPlaneNormal();
+	onFace = t * (plane.getPlaneNormal() * plane.getPlaneConstant());
+}
+
+// A btBoxShape partner's face along its local `axis` on `side` (±1): its outward normal and its centre, world.
+void boxFace(const btBoxShape& box, const btTransform& t, int axis, btScalar side, btVector3& face, btVector3& onFace)
+{
+	face = side * t.getBasis().getColumn(axis);
+	btVector3 centre(0, 0, 0);
+	centre[axis] = side * box.getHalfExtentsWithMargin()[axis];
+	onFace = t * centre;
+}
+
 // Bullet's normal of a contact with a box or a plane is found by its convex algorithms (GJK, EPA) and, in float,
 // is tilted from the face by up to ~1e-3 rad (measured: RagdollDemo's capsules on its box ground, 73% of the normals
 // 1e-4 to 1e-3 rad): a row on it is off the face by the tilt times the point's distance from Bullet's point. When
@@ -183,14 +197,11 @@ void takePartnerFace(const btCollisionObject& partner, btScalar outward, btVecto
 	btVector3 face(0, 0, 0), onFace(0, 0, 0);  // outward, world; a point of its plane
 	if (shape->getShapeType() == STATIC_PLANE_PROXYTYPE)
 	{
-		const btStaticPlaneShape& plane = *static_cast<const btStaticPlaneShape*>(shape);
-		face = t.getBasis() * plane.getPlaneNormal();
-		onFace = t * (plane.getPlaneNormal() * plane.getPlaneConstant());
+		planeFace(*static_cast<const btStaticPlaneShape*>(shape), t, face, onFace);
 		if (outward * face.dot(normal) < kFaceNormal) return;
 	}
 	else if (shape->getShapeType() == BOX_SHAPE_PROXYTYPE)
 	{
-		const btVector3 half = static_cast<const btBoxShape*>(shape)->getHalfExtentsWithMargin();
 		int axis = -1;
 		btScalar side = 0;
 		for (int k = 0; k < 3; ++k)
@@ -203,10 +214,7 @@ void takePartnerFace(const btCollisionObject& partner, btScalar outward, btVecto
 			}
 		}
 		if (axis < 0) return;
-		face = side * t.getBasis().getColumn(axis);
-		btVector3 centre(0, 0, 0);
-		centre[axis] = side * half[axis];
-		onFace = t * centre;
+		boxFace(*static_cast<const btBoxShape*>(shape), t, axis, side, face, onFace);
 	}
 	else
 		return;
@@ -225,24 +233,19 @@ bool faceUnder(const btCollisionObject& partner, const btVector3& at, btVector3&
 	const btTransform& t = partner.getWorldTransform();
 	if (shape->getShapeType() == STATIC_PLANE_PROXYTYPE)
 	{
-		const btStaticPlaneShape& plane = *static_cast<const btStaticPlaneShape*>(shape);
-		face = t.getBasis() * plane.getPlaneNormal();
-		onFace = t * (plane.getPlaneNormal() * plane.getPlaneConstant());
+		planeFace(*static_cast<const btStaticPlaneShape*>(shape), t, face, onFace);
 		return true;
 	}
 	if (shape->getShapeType() != BOX_SHAPE_PROXYTYPE) return false;
-	const btVector3 half = static_cast<const btBoxShape*>(shape)->getHalfExtentsWithMargin();
+	const btBoxShape& box = *static_cast<const btBoxShape*>(shape);
+	const btVector3 half = box.getHalfExtentsWithMargin();
 	const btVector3 local = t.invXform(at);
 	int axis = 0;
 	for (int k = 1; k < 3; ++k)
 		if (btFabs(local[k]) - half[k] > btFabs(local[axis]) - half[axis]) axis = k;
 	for (int k = 0; k < 3; ++k)
 		if (k != axis && btFabs(local[k]) > half[k]) return false;
-	const btScalar side = local[axis] >= 0 ? btScalar(1) : btScalar(-1);
-	face = side * t.getBasis().getColumn(axis);
-	btVector3 centre(0, 0, 0);
-	centre[axis] = side * half[axis];
-	onFace = t * centre;
+	boxFace(box, t, axis, local[axis] >= 0 ? btScalar(1) : btScalar(-1), face, onFace);
 	return true;
 }
 
@@ -414,13 +417,19 @@ void gatherContacts(btDispatcher& dispatcher, const Array<NearPair>& near, const
 	}
 }
 
-void saveCallStart(const Array<std::unique_ptr<Island>>& islands, Array<CallStart>& saved)
+bool saveCallStart(const Array<std::unique_ptr<Island>>& islands, Array<CallStart>& saved)
 {
 	saved.clear();
+	bool candidate = false;  // a body findSunkBodies looks at
+	for (const auto& island : islands)
+		for (const IslandBody& b : island->bodies)
+			candidate = candidate || (b.contactSet < 0 && responds(*b.rigid) && isRounded(*b.rigid));
+	if (!candidate) return false;
 	for (const auto& island : islands)
 		for (const IslandBody& b : island->bodies)
 			saved.push_back({b.rigid->getWorldTransform(), b.rigid->getInterpolationWorldTransform(),
 							 b.rigid->getLinearVelocity(), b.rigid->getAngularVelocity()});
+	return true;
 }
 
 void restoreCallStart(const Array<std::unique_ptr<Island>>& islands, const Array<CallStart>& saved)

@@ -88,8 +88,10 @@ struct CallStart
 	btVector3 linear, angular;
 };
 
-/// Saves every island body's CallStart, in the islands' order of bodies.
-void saveCallStart(const Array<std::unique_ptr<Island>>& islands, Array<CallStart>& saved);
+/// Saves every island body's CallStart, in the islands' order of bodies, if some island body is one findSunkBodies
+/// looks at (a sphere or capsule with no fixed-partner slot); false, saving nothing, if none is (chains, robots of
+/// boxes and meshes: the call cannot be done again, and pays no copy).
+bool saveCallStart(const Array<std::unique_ptr<Island>>& islands, Array<CallStart>& saved);
 
 /// Puts every island body back to its CallStart (the islands those were saved from).
 void restoreCallStart(const Array<std::unique_ptr<Island>>& islands, const Array<CallStart>& saved);

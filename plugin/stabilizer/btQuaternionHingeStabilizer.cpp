@@ -216,10 +216,9 @@ const btQuaternionHingeStabilizerStats& btQuaternionHingeStabilizer::stabilize(b
 				for (IslandBody& b : island->bodies) findAttachedBodies(*b.rigid, impl.bodyOf, impl.attached);
 		// (with attached bodies carried or closed the call is not done again: those bodies are not saved)
 		const bool recheck = pass == 0 && m_settings.projectContacts && settings.positions && !m_settings.moveAttachedBodies &&
-							 !m_settings.closeAttachedConstraints && !impl.islands.empty();
+							 !m_settings.closeAttachedConstraints && saveCallStart(impl.islands, impl.callStart);
 		if (recheck)
 		{
-			saveCallStart(impl.islands, impl.callStart);
 			impl.invariants.clear();
 			for (const auto& island : impl.islands) impl.invariants.push_back(island->invariants);
 		}
