@@ -2,7 +2,7 @@
 // btCollisionObject as the demo makes it, or a static btRigidBody) with the stabilizer's defaults, nothing else set:
 // every joint held from t = 0.5 s (the demo's frames start up to 0.1 m apart), hinges and cone twists within their
 // limits, no call sinking a part into the ground, and the ragdolls resting no deeper in it than without the
-// stabilizer. One ragdoll and a pile of 20, 60 Hz, 10 iterations.
+// stabilizer. One ragdoll, a pile of 20 and a crowd of 100, 60 Hz, 10 iterations.
 #ifdef QUATHINGE_HAVE_STABILIZER
 #include "support/RagdollDemo.h"
 #include "support/StabilizerScene.h"
@@ -36,16 +36,33 @@ struct RagdollFigures
 	int contactRows = 0;  // contact rows projected, summed over the run
 };
 
-// `count` ragdolls: one standing at the origin, or a pile of columns of five, each 1.8 m above the one below, turned
-// and spun differently; 4 s at 60 Hz.
+// How the ragdolls stand: a pile (columns of five, each 1.8 m above the one below, the columns 0.4 m apart; one
+// ragdoll is the first column's lowest) or a crowd (all on the ground, rows of ten 0.8 m apart: each falls onto its
+// neighbours).
+enum class Layout
+{
+	Pile,
+	Crowd
+};
+
+// `count` ragdolls as `layout` places them, turned and spun differently; 4 s at 60 Hz.
 RagdollFigures run(RagdollGround ground, int count, bool stabilized,
-				   const btQuaternionHingeStabilizerSettings& settings = btQuaternionHingeStabilizerSettings())
+				   const btQuaternionHingeStabilizerSettings& settings = btQuaternionHingeStabilizerSettings(),
+				   Layout layout = Layout::Pile)
 {
 	RagdollDemoWorld w(ground);
 	for (int i = 0; i < count; ++i)
 	{
-		const int column = i / 5, level = i % 5;
-		const btVector3 at(btScalar(0.4 * (column % 2) - 0.2), btScalar(0.2 + 1.8 * level), btScalar(0.4 * (column / 2) - 0.2));
+		btVector3 at;
+		if (layout == Layout::Pile)
+		{
+			const int column = i / 5, level = i % 5;
+			at = btVector3(btScalar(0.4 * (column % 2) - 0.2), btScalar(0.2 + 1.8 * level), btScalar(0.4 * (column / 2) - 0.2));
+		}
+		else
+		{
+			at = btVector3(btScalar(0.8 * (i % 10)), btScalar(0.2), btScalar(0.8 * (i / 10)));
+		}
 		w.addRagdoll(at, btScalar(0.9 * i), btScalar(std::sin(1.7 * i + 0.3)));
 	}
 	btQuaternionHingeStabilizer stabilizer(settings);  // the defaults unless said
@@ -96,19 +113,22 @@ const double kCallSink = 1e-5;  // m: how much deeper one call may leave a part 
 
 // Without and with the stabilizer's defaults (every joint, the cone twists' limits and the contacts projected);
 // returns both (bare, held) for checkWithoutConeLimits.
-std::pair<RagdollFigures, RagdollFigures> check(RagdollGround ground, int count)
+std::pair<RagdollFigures, RagdollFigures> check(RagdollGround ground, int count, Layout layout = Layout::Pile,
+												double jointTolerance = kSeparationTolerance)
 {
-	const RagdollFigures bare = run(ground, count, false), held = run(ground, count, true);
+	const btQuaternionHingeStabilizerSettings defaults;
+	const RagdollFigures bare = run(ground, count, false, defaults, layout),
+						 held = run(ground, count, true, defaults, layout);
 	const char* groundName = ground == RagdollGround::CollisionObject ? "btCollisionObject" : "btRigidBody";
 	std::printf(
-		"[ measured ] %d ragdoll(s) on a %s ground, without -> with the stabilizer (defaults): hinges %.2e -> "
+		"[ measured ] %d ragdoll(s) (%s) on a %s ground, without -> with the stabilizer (defaults): hinges %.2e -> "
 		"%.2e m, cone twists %.2e -> %.2e m, resting ground penetration %.2e -> %.2e m, deepest %.2e -> %.2e m, "
 		"contact rows %d, deepest sink of a part by a call %.2e m; past the limits: hinges %.2e -> %.2e rad, cone "
 		"twists %.2e -> %.2e rad\n",
-		count, groundName, bare.hinge, held.hinge, bare.cone, held.cone, bare.restDepth, held.restDepth, bare.deepest,
+		count, layout == Layout::Pile ? "pile" : "crowd", groundName, bare.hinge, held.hinge, bare.cone, held.cone, bare.restDepth, held.restDepth, bare.deepest,
 		held.deepest, held.contactRows, held.callSink, bare.hingePast, held.hingePast, bare.conePast, held.conePast);
-	EXPECT_LE(held.hinge, kSeparationTolerance);
-	EXPECT_LE(held.cone, kSeparationTolerance);
+	EXPECT_LE(held.hinge, jointTolerance);
+	EXPECT_LE(held.cone, jointTolerance);
 	EXPECT_LE(held.hingePast, kLimitPastTolerance);
 	EXPECT_LE(held.conePast, kLimitPastTolerance);
 	EXPECT_GT(bare.conePast, 100 * kLimitPastTolerance);  // Bullet's soft limits alone: the scene asks the question
@@ -150,7 +170,13 @@ TEST(StabilizerRagdollDemo, OneRagdollOnARigidBodyGround) { check(RagdollGround:
 TEST(StabilizerRagdollDemo, APileOfTwentyOnACollisionObjectGround)
 {
 	const auto figures = check(RagdollGround::CollisionObject, 20);
+#ifdef QUATHINGE_SANITIZED_TESTS
+	static_cast<void>(figures);
+#else
+	// the sanitizer build runs the option off on the one ragdoll above (the same code; the pile's run takes a minute
+	// there)
 	checkWithoutConeLimits(20, figures.first, figures.second);
+#endif
 }
 TEST(StabilizerRagdollDemo, APileOfTwentyOnARigidBodyGround)
 {
@@ -160,6 +186,18 @@ TEST(StabilizerRagdollDemo, APileOfTwentyOnARigidBodyGround)
 	GTEST_SKIP() << "the sanitizer build runs the pile on the btCollisionObject ground only";
 #endif
 	check(RagdollGround::StaticBody, 20);
+}
+TEST(StabilizerRagdollDemo, ACrowdOfAHundredOnACollisionObjectGround)
+{
+#ifdef QUATHINGE_SANITIZED_TESTS
+	// the same projection and contact code as the pile of twenty, which the sanitizer build runs
+	GTEST_SKIP() << "the sanitizer build runs the pile of twenty only";
+#endif
+	// Joints to issue 38's 1e-5 m in both precisions (float: 2.3e-6 m hinges, 6.4e-6 m cone twists). In double two
+	// calls of the 240 end at Newton's iteration cap (16 and 18 iterations, backtracks and a metric switch) after
+	// Bullet's step opened a joint 0.195 m in the falling crowd: 6e-8 m then, against the pile's 8e-11 m.
+	const double kCrowdJointTolerance = 1e-5;  // m
+	check(RagdollGround::CollisionObject, 100, Layout::Crowd, kCrowdJointTolerance);
 }
 TEST(StabilizerRagdollDemo, OneHangingByItsHeadFromAPoint)
 {
