@@ -46,11 +46,12 @@ TEST(Stabilizer, GroundedFourBarWithRedundantRowsStaysFinite)
 	EXPECT_LE(separation, kSeparationTolerance);
 }
 
-TEST(Stabilizer, FloatingClosedLoopUsesTheSparseFactorization)
+namespace
 {
-	// Four free bodies hinged in a ring (a cycle of movable bodies: no fill-free numbering) are solved by the
-	// general sparse LDLᵀ, stay finite and closed.
-	StabilizerScene scene;
+// Four free bodies hinged in a ring (a cycle of movable bodies: no numbering along a tree of bodies is fill-free),
+// in zero gravity; the first body spins.
+std::vector<btRigidBody*> floatingRing(StabilizerScene& scene)
+{
 	scene.world().setGravity(btVector3(0, 0, 0));
 	const btScalar half = btScalar(0.25), thin = btScalar(0.03);
 	btRigidBody* left = scene.box(btVector3(thin, half, thin), 1, btVector3(0, half, 0));
@@ -62,46 +63,70 @@ TEST(Stabilizer, FloatingClosedLoopUsesTheSparseFactorization)
 	scene.hinge(*top, *right, btVector3(half, 0, 0), btVector3(0, half, 0), z, z);
 	scene.hinge(*right, *bottom, btVector3(0, -half, 0), btVector3(half, 0, 0), z, z);
 	scene.hinge(*bottom, *left, btVector3(-half, 0, 0), btVector3(0, -half, 0), z, z);
-	left->setAngularVelocity(btVector3(0, 0, 4));
-	top->setLinearVelocity(btVector3(0.5, 0, 0.2));
+	return {left, top, right, bottom};
+}
+}  // namespace
+
+TEST(Stabilizer, FloatingClosedLoopUsesTheFillReducingOrder)
+{
+	// The ring is solved by the block LDLᵀ in a fill-reducing order with its fill (not the general sparse LDLᵀ), stays
+	// finite and closed.
+	StabilizerScene scene;
+	const std::vector<btRigidBody*> ring = floatingRing(scene);
+	ring[0]->setAngularVelocity(btVector3(0, 0, 4));
+	ring[1]->setLinearVelocity(btVector3(0.5, 0, 0.2));
 	btQuaternionHingeStabilizer stabilizer;
 	scene.addAction(&stabilizer);
 	for (int i = 0; i < 120; ++i)
 	{
 		scene.world().stepSimulation(kTimeStep, 0);
 		EXPECT_LE(stabilizer.getLastStats().residualAfter, kResidualTolerance);
+		EXPECT_EQ(stabilizer.getLastStats().numericalIssues, 0);
 	}
-	EXPECT_EQ(stabilizer.getLastStats().sparseIslands, 1);
+	EXPECT_EQ(stabilizer.getLastStats().loopIslands, 1);
+	EXPECT_EQ(stabilizer.getLastStats().sparseIslands, 0);
 	ASSERT_TRUE(scene.allFinite());
 }
 
 TEST(Stabilizer, BothFactorizationsGiveTheSameProjection)
 {
-	// The tree-ordered block LDLᵀ and the general sparse LDLᵀ project the same perturbed chain to the same place.
-	std::vector<btTransform> results[2];
-	for (int solver = 0; solver < 2; ++solver)
+	// The block LDLᵀ and the general sparse LDLᵀ project the same perturbed chain (tree-ordered) and the same
+	// perturbed ring (a closed loop: fill-reducing order) to the same place.
+	for (bool loop : {false, true})
 	{
-		StabilizerScene scene;
-		std::vector<btRigidBody*> links = scene.chain(6);
-		for (size_t i = 0; i < links.size(); ++i)
+		std::vector<btTransform> results[2];
+		for (int solver = 0; solver < 2; ++solver)
 		{
-			btTransform t = links[i]->getCenterOfMassTransform();
-			t.setOrigin(t.getOrigin() + btVector3(0.01f * btScalar(i), -0.02f, 0.005f));
-			t.setRotation(btQuaternion(btVector3(0, 1, 1).normalized(), btScalar(0.05) * btScalar(i)) * t.getRotation());
-			links[i]->setCenterOfMassTransform(t);
+			StabilizerScene scene;
+			std::vector<btRigidBody*> links = loop ? floatingRing(scene) : scene.chain(6);
+			for (size_t i = 0; i < links.size(); ++i)
+			{
+				btTransform t = links[i]->getCenterOfMassTransform();
+				t.setOrigin(t.getOrigin() + btVector3(0.01f * btScalar(i), -0.02f, 0.005f));
+				t.setRotation(btQuaternion(btVector3(0, 1, 1).normalized(), btScalar(0.05) * btScalar(i)) * t.getRotation());
+				links[i]->setCenterOfMassTransform(t);
+			}
+			btQuaternionHingeStabilizerSettings settings;
+			settings.solver = solver == 0 ? BT_QHSTAB_SOLVER_AUTO : BT_QHSTAB_SOLVER_SPARSE_LDLT;
+			btQuaternionHingeStabilizer stabilizer(settings);
+			const btQuaternionHingeStabilizerStats& stats = stabilizer.stabilize(&scene.world());
+			EXPECT_EQ(stats.sparseIslands, solver);
+			EXPECT_EQ(stats.loopIslands, loop && solver == 0 ? 1 : 0);
+			EXPECT_LE(stats.residualAfter, kResidualTolerance);
+			for (btRigidBody* link : links) results[solver].push_back(link->getCenterOfMassTransform());
 		}
-		btQuaternionHingeStabilizerSettings settings;
-		settings.solver = solver == 0 ? BT_QHSTAB_SOLVER_AUTO : BT_QHSTAB_SOLVER_SPARSE_LDLT;
-		btQuaternionHingeStabilizer stabilizer(settings);
-		const btQuaternionHingeStabilizerStats& stats = stabilizer.stabilize(&scene.world());
-		EXPECT_EQ(stats.sparseIslands, solver);
-		for (btRigidBody* link : links) results[solver].push_back(link->getCenterOfMassTransform());
+		// m: both solve the same systems in double; they differ by the order of rounding only, amplified by the float
+		// positions' resolution (~1e-6 m here).
+		const btScalar agreement = btScalar(1e-5);
+		for (size_t i = 0; i < results[0].size(); ++i)
+		{
+			EXPECT_LE((results[0][i].getOrigin() - results[1][i].getOrigin()).length(), agreement)
+				<< (loop ? "ring" : "chain") << " link " << i;
+			// rad: the same for the turns (the quaternions' difference, twice the angle between them for small angles)
+			EXPECT_LE((results[0][i].getRotation() - results[1][i].getRotation()).length(), agreement)
+				<< (loop ? "ring" : "chain") << " link " << i;
+		}
 	}
-	// m: both solve the same systems in double; they differ by the order of rounding only, amplified by the float
-	// positions' resolution (~1e-6 m here).
-	const btScalar agreement = btScalar(1e-5);
-	for (size_t i = 0; i < results[0].size(); ++i)
-		EXPECT_LE((results[0][i].getOrigin() - results[1][i].getOrigin()).length(), agreement) << "link " << i;
 }
 
 TEST(Stabilizer, StaticAndKinematicBodiesAreNeverMoved)

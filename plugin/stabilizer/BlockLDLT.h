@@ -12,7 +12,9 @@
 // its rounding into large negative pivots further on.
 // The numbering is fill-free when the later neighbours of every joint are pairwise neighbours (true for joints
 // numbered leaves first along a tree of bodies: they all share the one body towards the root). analyze() checks it
-// and refuses a pattern that would fill; the caller then uses the general sparse LDLᵀ (SparseLDLT.h).
+// and refuses a pattern that would fill; for an island with closed loops the caller then numbers the joints in a
+// fill-reducing order and adds the fill's blocks to the pattern (IslandBuilder.cpp, fillReducingOrder in
+// SparseLDLT.h), which this class then accepts; the general sparse LDLᵀ is the reference and the forced path.
 // A pivot at or below the pivot floor makes that row inactive (its 1/p is 0, so its λ is 0) instead of dividing by ~0.
 // The diagonal blocks are overwritten by X_k, the lower blocks by V_ik. Only a diagonal block's lower triangle is read
 // (the assembly and the Schur updates write no other; BlockLDLT.cpp), and X_k's unit lower shape is used in V = W Xᵀ.

@@ -261,7 +261,10 @@ Array<int> treeOrder(int numBodies, const Array<JointSlot>& joints)
 	return order;
 }
 
-void buildPattern(Island& island)
+// The island's block pattern in its joints' order: a lower block for each pair of joints on a common movable body and,
+// with `fill`, for each pair the elimination in that order joins (the symbolic factorization: a column's blocks
+// below its first are added to that first block row's column), so that no numbering fills.
+void buildPattern(Island& island, bool fill)
 {
 	const int n = int(island.joints.size());
 	BlockPattern& p = island.pattern;
@@ -295,6 +298,11 @@ void buildPattern(Island& island)
 		Array<int>& rows = columns[k];
 		std::sort(rows.begin(), rows.end());
 		rows.erase(std::unique(rows.begin(), rows.end()), rows.end());
+		if (fill && rows.size() > 1)  // column k's later blocks, below its first, join that block row's column
+		{
+			Array<int>& parent = columns[rows[0]];
+			parent.insert(parent.end(), rows.begin() + 1, rows.end());
+		}
 		p.colStart[k] = int(p.rowOf.size());
 		p.rowOf.insert(p.rowOf.end(), rows.begin(), rows.end());
 	}
@@ -435,10 +443,23 @@ std::unique_ptr<Island> buildOne(const Array<SignatureEntry>& entries, bool forc
 		ordered.reserve(order.size());
 		for (int j : order) ordered.push_back(island.joints[j]);
 		island.joints.swap(ordered);
-		buildPattern(island);
-		if (island.blockRows == 5) island.treeOrdered = prepareBlocks(static_cast<BlockIsland<5>&>(island));
-		else island.treeOrdered = prepareBlocks(static_cast<BlockIsland<6>&>(island));
-		island.useSparse = forceSparse || !island.treeOrdered;
+		buildPattern(island, false);
+		auto prepare = [&island]() {
+			return island.blockRows == 5 ? prepareBlocks(static_cast<BlockIsland<5>&>(island))
+										 : prepareBlocks(static_cast<BlockIsland<6>&>(island));
+		};
+		island.treeOrdered = prepare();
+		if (!island.treeOrdered && !forceSparse)
+		{
+			// Closed loops: the joints in a fill-reducing order, the fill in the pattern, and the same block LDLᵀ.
+			const Array<int> fillOrder = fillReducingOrder(island.pattern);
+			ordered.clear();
+			for (int j : fillOrder) ordered.push_back(island.joints[j]);
+			island.joints.swap(ordered);
+			buildPattern(island, true);
+			island.fillOrdered = prepare();
+		}
+		island.useSparse = forceSparse || !(island.treeOrdered || island.fillOrdered);
 		if (island.useSparse)
 		{
 			island.sparse.reset(new SparseLDLT);

@@ -6,6 +6,8 @@
 #include <Eigen/SparseCholesky>
 #include <Eigen/SparseCore>
 
+#include <algorithm>
+
 namespace quathinge
 {
 namespace stabilizer
@@ -70,6 +72,32 @@ void SparseLDLT::analyze(const BlockPattern& pattern)
 	m_eigen->ldlt.analyzePattern(m);
 	m_eigen->rhs.resize(pattern.rows);
 	m_eigen->solution.resize(pattern.rows);
+}
+
+Array<int> fillReducingOrder(const BlockPattern& pattern)
+{
+	const int n = pattern.blockRows();
+	// the lower triangle, compressed by columns, written directly (rows ascending: the diagonal, then the pattern's)
+	Eigen::SparseMatrix<double> graph(n, n);
+	graph.resizeNonZeros(n + pattern.lowerBlocks());
+	int* outer = graph.outerIndexPtr();
+	int* inner = graph.innerIndexPtr();
+	int at = 0;
+	for (int k = 0; k < n; ++k)
+	{
+		outer[k] = at;
+		inner[at++] = k;
+		for (int s = pattern.colStart[k]; s < pattern.colStart[k + 1]; ++s) inner[at++] = pattern.rowOf[s];
+	}
+	outer[n] = at;
+	std::fill(graph.valuePtr(), graph.valuePtr() + at, 1.0);
+	// AMDOrdering orders the pattern of A + Aᵀ; its permutation's indices()[new] is the old index (SimplicialLDLT
+	// keeps it as the inverse of the permutation it applies)
+	Eigen::PermutationMatrix<Eigen::Dynamic, Eigen::Dynamic, int> perm;
+	Eigen::AMDOrdering<int>()(graph, perm);
+	Array<int> order(n);
+	for (int k = 0; k < n; ++k) order[k] = perm.indices()[k];
+	return order;
 }
 
 template <int R>

@@ -1,5 +1,6 @@
-// The general sparse LDLᵀ of K (docs/MATH.md Q13, Q14): Eigen's SimplicialLDLT with AMD ordering, for islands with
-// closed loops (where no joint numbering avoids fill) and as the reference for the tree-ordered BlockLDLT.
+// The general sparse LDLᵀ of K (docs/MATH.md Q13, Q14): Eigen's SimplicialLDLT with AMD ordering, the reference for
+// the block LDLᵀ (BlockLDLT.h) and the path solver = BT_QHSTAB_SOLVER_SPARSE_LDLT forces; and the fill-reducing order
+// of the blocks by which the block LDLᵀ factorizes islands with closed loops (fillReducingOrder, below).
 //
 // The scalar pattern is every entry of each joint's own rows in every block of the BlockPattern (structural zeros
 // included; no padding), lower triangle, compressed by columns. It is analysed once (analyzePattern) and only
@@ -45,6 +46,12 @@ private:
 	Array<int> m_lowerStart;  // value index of the first row of lower block s in each of its columns (stride
 							  // kMaxBlockRows)
 };
+
+/// A fill-reducing order of the blocks of `pattern` (Eigen's approximate minimum degree on the graph whose nodes are the
+/// blocks and whose edges are its lower blocks): order[k] is the block to number k. For islands with closed loops,
+/// whose numbering along a tree of bodies fills: in this order, with the fill's blocks added to the pattern, the block
+/// LDLᵀ (BlockLDLT.h) factorizes them with dense R×R kernels instead of this class's scalar ones.
+Array<int> fillReducingOrder(const BlockPattern& pattern);
 
 extern template bool SparseLDLT::factorize<5>(const BlockMatrix<5>&);
 extern template bool SparseLDLT::factorize<6>(const BlockMatrix<6>&);

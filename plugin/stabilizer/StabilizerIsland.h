@@ -299,6 +299,7 @@ struct Island
 	BlockPattern pattern;
 	Array<Coupling> couplings;
 	bool treeOrdered = false;  // BlockLDLT accepted the numbering (no fill)
+	bool fillOrdered = false;  // … or, with closed loops, the fill-reducing numbering with its fill (fillReducingOrder)
 	bool useSparse = false;    // solved by SparseLDLT
 	std::unique_ptr<SparseLDLT> sparse;
 	// The position correction's metric for the rest of a step: M, or M + M_ref (IslandProjection.cpp, "stiff").

@@ -253,6 +253,7 @@ const btQuaternionHingeStabilizerStats& btQuaternionHingeStabilizer::stabilize(b
 				if (r.solves == r.iterations) ++m_stats.velocitiesWithinTolerance;
 			}
 			if (island.useSparse) ++m_stats.sparseIslands;
+			if (island.fillOrdered) ++m_stats.loopIslands;
 			m_stats.joints += int(island.joints.size()) - island.limitOnlySlots;
 			m_stats.quaternionHinges += island.jointsOfKind[kQuaternionHinges];
 			m_stats.stockHinges += island.jointsOfKind[kStockHinges];

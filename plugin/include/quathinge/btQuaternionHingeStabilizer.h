@@ -19,7 +19,8 @@ class btIDebugDraw;
 /// Which factorization solves an island's K.
 enum btQuaternionHingeStabilizerSolver
 {
-	/// Tree-ordered block LDLᵀ for islands without closed loops; the general sparse LDLᵀ for islands with loops.
+	/// Block LDLᵀ: joints numbered along the tree of bodies (no fill) for islands without closed loops, in a
+	/// fill-reducing order with the fill's blocks for islands with loops.
 	BT_QHSTAB_SOLVER_AUTO = 0,
 	/// Always the general sparse LDLᵀ (Eigen SimplicialLDLT, AMD ordering): the reference, and slower.
 	BT_QHSTAB_SOLVER_SPARSE_LDLT = 1
@@ -154,7 +155,7 @@ struct btQuaternionHingeStabilizerSettings
 	/// Relative diagonal regularization ε of K: K + ε·(trace K / rows)·I. Keeps redundant and closed-loop islands
 	/// finite. [0, 1e-2]; 0 only when no island is ever redundant.
 	btScalar regularization = btScalar(1e-9);
-	/// How K is factorized: automatic (tree block LDLᵀ, sparse LDLᵀ for loops) or always sparse.
+	/// How K is factorized: automatic (block LDLᵀ, tree-ordered or, with loops, fill-reducing) or always sparse.
 	btQuaternionHingeStabilizerSolver solver = BT_QHSTAB_SOLVER_AUTO;
 	/// The projection does no work (on by default; docs/ENERGY.md, Q15–Q19). Ideal joints exert no power, so their
 	/// correction may neither add nor remove energy. Per island and step, after the projection its kinetic energy is
@@ -202,7 +203,8 @@ struct btQuaternionHingeStabilizerStats
 	int restingIslands = 0;
 	int positionsWithinTolerance = 0;     ///< islands projected whose joint error was already within tolerance: no Newton step
 	int velocitiesWithinTolerance = 0;    ///< islands projected whose J v was already within tolerance: no velocity solve
-	int sparseIslands = 0;                ///< of which solved by the general sparse LDLᵀ (closed loops, or forced)
+	int sparseIslands = 0;                ///< of which solved by the general sparse LDLᵀ (solver = BT_QHSTAB_SOLVER_SPARSE_LDLT; otherwise none expected)
+	int loopIslands = 0;                  ///< of which with closed loops, solved by the block LDLᵀ in a fill-reducing order
 	int joints = 0;                       ///< joints projected (point constraints and locked 6-dofs included: projectPoint/LockedConstraints)
 	int quaternionHinges = 0;             ///< of which btQuaternionHingeConstraints
 	int stockHinges = 0;                  ///< … btHingeConstraints and btHingeAccumulatedAngleConstraints (projectStockHinges)
