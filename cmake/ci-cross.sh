@@ -70,8 +70,8 @@ case $target in
 esac
 # Tests left out under the emulator (a gtest negative filter), each for its time: qemu translates every instruction.
 # StabilizerMixed: its 4 tests step Bullet's ragdoll demo with and without the stabilizer for seconds each (about 20 s
-# natively, 12 times that under qemu-aarch64); the crowd of 100 ragdolls (StabilizerRagdollDemo) takes a minute
-# natively. They run natively and under wine.
+# natively, 12 times that under qemu-aarch64); the crowd of 100 ragdolls (StabilizerRagdollDemo) takes half a
+# minute natively. They run natively and under wine.
 leave_out=
 [ "$target" != aarch64 ] || leave_out='StabilizerMixed.*:StabilizerRagdollDemo.ACrowd*'
 

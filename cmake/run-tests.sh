@@ -14,7 +14,7 @@ build_and_test() {
   cmake --build "$dir" -j2
   # ctest starts the tests it knows to be long first (their times from the last run, Testing/Temporary/
   # CTestCostData.txt): a new build has none, so it is given tests/ctest-costs.txt, the longest ones' times in the
-  # sanitizer build (s; the crowd of ragdolls, which that build skips, takes a minute in the others), or the longest
+  # sanitizer build (s; the crowd of ragdolls, which that build skips, takes half a minute in the others), or the longest
   # may start last, one core idle meanwhile (CI's sanitizer stage: ~2 min).
   if [ ! -f "$dir/Testing/Temporary/CTestCostData.txt" ]; then
     mkdir -p "$dir/Testing/Temporary"

@@ -59,6 +59,10 @@ bool isRounded(const btCollisionObject& o)
 	return shape && (shape->getShapeType() == SPHERE_SHAPE_PROXYTYPE || shape->getShapeType() == CAPSULE_SHAPE_PROXYTYPE);
 }
 
+// An island body a call may sink into a box or plane fixed partner it has no rows with (findSunkBodies looks at it, so
+// saveCallStart saves the call's start for it): a responding sphere or capsule with no fixed-partner slot.
+bool mayBeSunk(const IslandBody& b) { return b.contactSet < 0 && responds(*b.rigid) && isRounded(*b.rigid); }
+
 bool isBoxOrPlane(const btCollisionObject& o)
 {
 	const btCollisionShape* shape = o.getCollisionShape();
@@ -423,7 +427,7 @@ bool saveCallStart(const Array<std::unique_ptr<Island>>& islands, Array<CallStar
 	bool candidate = false;  // a body findSunkBodies looks at
 	for (const auto& island : islands)
 		for (const IslandBody& b : island->bodies)
-			candidate = candidate || (b.contactSet < 0 && responds(*b.rigid) && isRounded(*b.rigid));
+			candidate = candidate || mayBeSunk(b);
 	if (!candidate) return false;
 	for (const auto& island : islands)
 		for (const IslandBody& b : island->bodies)
@@ -504,11 +508,10 @@ bool findSunkBodies(btCollisionWorld& world, const Array<std::unique_ptr<Island>
 		for (const IslandBody& b : island->bodies)
 		{
 			const CallStart& start = saved[k++];
-			if (b.contactSet >= 0 || !responds(*b.rigid)) continue;
+			if (!mayBeSunk(b)) continue;
 			btVector3 centre[2];
 			btScalar radius = 0;
-			const int centres = roundedCentres(*b.rigid, centre, radius);
-			if (centres == 0) continue;
+			const int centres = roundedCentres(*b.rigid, centre, radius);  // 1 or 2: a sphere or a capsule
 			// how far any point of it moved since Bullet's broadphase: the integration (the velocities it used, those
 			// at the call's start) and the call
 			const btScalar reach = radius + centre[0].length();
