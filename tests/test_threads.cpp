@@ -66,6 +66,12 @@ public:
 		btVector3 inertia;
 		m_shape.calculateLocalInertia(1, inertia);
 		const btVector3 axes[] = {btVector3(0, 0, 1), btVector3(0, 1, 0), btVector3(0, 1, 1), btVector3(1, 0, 1)};
+		// The first link hangs from a static body of this world, not from Bullet's one fixed body that one-body
+		// constraints share (btTypedConstraint::getFixedBody(), a static): addConstraint adds each constraint to its
+		// bodies' lists, so worlds built in threads at once raced on that body's list (ThreadSanitizer; once in a
+		// few hundred runs, glibc's "unaligned tcache chunk detected" abort).
+		m_anchor.setWorldTransform(btTransform::getIdentity());
+		m_world.addRigidBody(&m_anchor, 1, 0);
 		btRigidBody* parent = nullptr;
 		for (int i = 0; i < kLinks; ++i)
 		{
@@ -75,8 +81,8 @@ public:
 			body->setActivationState(DISABLE_DEACTIVATION);
 			m_world.addRigidBody(body, 1, 0);  // no contacts: the joints and the solver only
 			const btVector3 axis = axes[(i + variant) % 4].normalized(), pivot(-kHalfLength, 0, 0);
-			if (!parent)
-				m_joints.emplace_back(new btQuaternionHingeConstraint(*body, pivot, axis));
+			if (!parent)  // at the world's origin, on the same axis in both frames (the anchor is at the identity)
+				m_joints.emplace_back(new btQuaternionHingeConstraint(m_anchor, *body, btVector3(0, 0, 0), pivot, axis, axis));
 			else
 				m_joints.emplace_back(new btQuaternionHingeConstraint(*parent, *body, btVector3(kHalfLength, 0, 0), pivot,
 																	  axis, axis));
@@ -93,6 +99,7 @@ public:
 	{
 		for (auto& j : m_joints) m_world.removeConstraint(j.get());
 		for (auto& b : m_bodies) m_world.removeRigidBody(b.get());
+		m_world.removeRigidBody(&m_anchor);
 	}
 	Chain(const Chain&) = delete;
 	Chain& operator=(const Chain&) = delete;
@@ -115,6 +122,7 @@ public:
 private:
 	btDiscreteDynamicsWorld& m_world;
 	btBoxShape m_shape{btVector3(kHalfLength, btScalar(0.04), btScalar(0.04))};
+	btRigidBody m_anchor{0, nullptr, &m_shape};  // static
 	std::vector<std::unique_ptr<btRigidBody>> m_bodies;
 	std::vector<std::unique_ptr<btQuaternionHingeConstraint>> m_joints;
 };
