@@ -35,7 +35,8 @@ def load(path):
         scale = UNIT_NS[b.get("time_unit", "ns")]
         if agg == "median":
             entry["median"] = b["cpu_time"] * scale
-            for key in ("rows", "joints", "contacts", "stab_newton", "stab_factorizations"):
+            for key in ("rows", "joints", "contacts", "stab_newton", "stab_factorizations", "stab_islands",
+                        "stab_limit_rows", "stab_contact_rows"):
                 if key in b:
                     entry["counters"][key] = b[key]
         elif agg == "min":
@@ -239,6 +240,26 @@ def main():
                   f"{fmt_ratio(ratio(rows, g, 'quaternion+stab'))} × stock (contact points at the end: "
                   + ", ".join(f"{k} {rows[(g, k)]['counters'].get('contacts', 0):.0f}" for k in KINDS if (g, k) in rows)
                   + ").")
+    # 5. what the stabilizer did per step in each scene (averages over the timed steps of one repetition)
+    work = [(g, rows[(g, "quaternion+stab")]["counters"]) for g in step_groups if (g, "quaternion+stab") in rows]
+    work = [(g, c) for g, c in work if "stab_islands" in c]
+    if work:
+        md.append("")
+        md.append("## The stabilizer's work per step")
+        md.append("")
+        md.append("Kind quaternion+stab, means over the timed steps. *islands*: islands computed (not those at rest, "
+                  "whose result is replayed); *factorizations*: numeric factorizations of K over all of them; *Newton*: "
+                  "the most Newton iterations any island used; *limit rows*, *contact rows*: the one-sided rows "
+                  "projected (a stop or a contact point reached at some iteration).")
+        md.append("")
+        md.append("| benchmark | islands | factorizations | factorizations per island | Newton | limit rows | contact rows |")
+        md.append("|---|---|---|---|---|---|---|")
+        for g, c in work:
+            isl = c.get("stab_islands", 0)
+            per_island = f"{c.get('stab_factorizations', 0) / isl:.2f}" if isl > 0 else "–"
+            md.append(f"| {g} | {isl:.1f} | {c.get('stab_factorizations', 0):.1f} | {per_island} | "
+                      f"{c.get('stab_newton', 0):.2f} | {c.get('stab_limit_rows', 0):.1f} | "
+                      f"{c.get('stab_contact_rows', 0):.1f} |")
     if errors:
         md.append("")
         md.append("Benchmarks that reported an error: " + "; ".join(errors))

@@ -328,15 +328,20 @@ void benchStep(benchmark::State& state, const StepScene* spec, Kind kind)
 		sim.stabilizer()->setFilter(&heroFilter);
 	}
 	for (int i = 0; i < spec->warmup; ++i) sim.step(kStepDt, kIterations);
-	// the stabilizer's work per step: Newton iterations (the most any island used) and factorizations (all islands)
-	double stabIterations = 0, stabFactorizations = 0;
+	// the stabilizer's work per step: Newton iterations (the most any island used), factorizations (all islands), the
+	// islands it computed (not those at rest, replayed) and the limit and contact rows it projected
+	double stabIterations = 0, stabFactorizations = 0, stabIslands = 0, stabLimitRows = 0, stabContactRows = 0;
 	for (auto _ : state)
 	{
 		sim.step(kStepDt, kIterations);
 		if (const btQuaternionHingeStabilizer* stab = sim.stabilizer())
 		{
-			stabIterations += stab->getLastStats().iterations;
-			stabFactorizations += stab->getLastStats().factorizations;
+			const btQuaternionHingeStabilizerStats& stats = stab->getLastStats();
+			stabIterations += stats.iterations;
+			stabFactorizations += stats.factorizations;
+			stabIslands += stats.islands - stats.restingIslands;
+			stabLimitRows += stats.activeLimitRows;
+			stabContactRows += stats.contactRows;
 		}
 	}
 	if (!sim.finiteAndBounded())
@@ -356,6 +361,9 @@ void benchStep(benchmark::State& state, const StepScene* spec, Kind kind)
 	{
 		state.counters["stab_newton"] = benchmark::Counter(stabIterations, benchmark::Counter::kAvgIterations);
 		state.counters["stab_factorizations"] = benchmark::Counter(stabFactorizations, benchmark::Counter::kAvgIterations);
+		state.counters["stab_islands"] = benchmark::Counter(stabIslands, benchmark::Counter::kAvgIterations);
+		state.counters["stab_limit_rows"] = benchmark::Counter(stabLimitRows, benchmark::Counter::kAvgIterations);
+		state.counters["stab_contact_rows"] = benchmark::Counter(stabContactRows, benchmark::Counter::kAvgIterations);
 		state.counters["stab_joints"] = sim.stabilizer()->getLastStats().joints;  // projected (the hero's, if filtered)
 	}
 	// time per joint-step, as a rate: items/s = joint-steps per second
