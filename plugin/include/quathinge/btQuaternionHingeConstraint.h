@@ -57,13 +57,17 @@ public:
 	/// the zero angle is the same as stock's.
 	btQuaternionHingeConstraint(btRigidBody & rbA, btRigidBody & rbB, const btVector3& pivotInA, const btVector3& pivotInB,
 								const btVector3& axisInA, const btVector3& axisInB, bool useReferenceFrameA = false);
-	/// Body A hinged to the world (Bullet's fixed body) at pivotInA about axisInA.
+	/// Body A hinged to the world (Bullet's fixed body) at pivotInA about axisInA. As with every one-body constraint of
+	/// Bullet's, the fixed body, btTypedConstraint::getFixedBody(), is one static object shared by all worlds, and
+	/// adding such a joint to a world appends the joint to that body's list of constraints: an app that builds worlds
+	/// in several threads at once hangs its joints from a static btRigidBody of each world instead (the two-body
+	/// constructors).
 	btQuaternionHingeConstraint(btRigidBody & rbA, const btVector3& pivotInA, const btVector3& axisInA,
 								bool useReferenceFrameA = false);
 	/// Joint frames in A's and B's local frames (origin: the pivot; z column: the hinge axis), as stock's.
 	btQuaternionHingeConstraint(btRigidBody & rbA, btRigidBody & rbB, const btTransform& rbAFrame,
 								const btTransform& rbBFrame, bool useReferenceFrameA = false);
-	/// Body A hinged to the world with its joint frame rbAFrame, as stock's.
+	/// Body A hinged to the world with its joint frame rbAFrame, as stock's (the shared fixed body: see above).
 	btQuaternionHingeConstraint(btRigidBody & rbA, const btTransform& rbAFrame, bool useReferenceFrameA = false);
 
 	/// The equivalent of an existing stock hinge: same bodies, frames, limits, motor, ERP/CFM parameters, breaking
