@@ -11,6 +11,7 @@
 #include <cmath>
 #include <cstdio>
 #include <initializer_list>
+#include <string>
 #include <utility>
 
 using namespace qh_test;
@@ -319,18 +320,61 @@ TEST(StabilizerForces, AFreeTumblingChainKeepsItsMomentum)
 // default) or cleared, with the bare joints' run: runSpring reported as case `id`.
 namespace
 {
-SpringRuns runSpring50(const char* id, bool gyroscopic)
+ForceHooks spring50Hooks() { return appSpring(50, btVector3(btScalar(0.2), btScalar(10.6), btScalar(0.3))); }
+ForceChain spring50Chain(bool gyroscopic)
 {
 	ForceChain chain;
 	chain.links = 2;
 	chain.gravity = 0;
 	chain.gyroscopic = gyroscopic;
-	return runSpring(id, id, chain, appSpring(50, btVector3(btScalar(0.2), btScalar(10.6), btScalar(0.3))), true);
+	return chain;
+}
+SpringRuns runSpring50(const char* id, bool gyroscopic)
+{
+	return runSpring(id, id, spring50Chain(gyroscopic), spring50Hooks(), true);
+}
+
+// The change over 20 s of the stabilizer's defaults and of stock Bullet at the same step, 60, 240 and 960 Hz; reported
+// as case `id`-step.
+struct StepRuns
+{
+	double stabilized[3], stock[3];
+};
+StepRuns runSpring50AtEachStep(const char* id, bool gyroscopic)
+{
+	const double hz[3] = {60, 240, 960};
+	StepRuns r{};
+	for (int i = 0; i < 3; ++i)
+	{
+		const ForceRecord s = run(spring50Chain(gyroscopic), spring50Hooks(), ForceKind::Stabilized, hz[i], 20);
+		expectHeld(s, id);
+		r.stabilized[i] = change(s, 0, 20);
+		r.stock[i] = change(run(spring50Chain(gyroscopic), spring50Hooks(), ForceKind::Stock, hz[i], 20), 0, 20);
+	}
+	const std::string name = std::string(id) + "-step";
+	report(name.c_str(), {{"d960", r.stabilized[2]}, {"stock60", r.stock[0]}, {"stock240", r.stock[1]}, {"stock960", r.stock[2]}});
+	return r;
 }
 }  // namespace
 
-// An app spring beyond this design's reach (docs/ENERGY.md, "Limitations"): printed, not asserted (the joints are).
-TEST(StabilizerForces, FiguresBeyondTheDesign) { runSpring50("spring50", true); }
+// An app spring beyond this design's bound (docs/ENERGY.md, "Limitations"): two box links turning about general axes
+// lose energy in Bullet's implicit gyroscopic step, which the restoration keeps as Bullet's step left it. The 10%
+// bound is not asserted; what is: the loss is the step's, so it shrinks as the step does (a first-order integrator's),
+// and at each step the stabilized chain keeps more than stock Bullet's hinges at that step.
+TEST(StabilizerForces, FiguresBeyondTheDesign)
+{
+	runSpring50("spring50", true);
+	const StepRuns r = runSpring50AtEachStep("spring50", true);
+	for (int i = 0; i < 3; ++i)
+	{
+		EXPECT_LT(r.stabilized[i], 0) << i;           // Bullet's step takes energy: none is made
+		EXPECT_GT(r.stabilized[i], r.stock[i]) << i;  // less lost than stock's at the same step
+		if (i > 0)
+		{
+			EXPECT_LT(-r.stabilized[i], -0.5 * r.stabilized[i - 1]) << i;  // a 4× smaller step: under half the loss
+		}
+	}
+}
 
 // The same with Bullet's implicit gyroscopic step cleared on both links (BT_ENABLE_GYROSCOPIC_FORCE_IMPLICIT_BODY):
 // what FiguresBeyondTheDesign loses is that step's, which takes energy out of boxes turning about a general axis (a
@@ -340,7 +384,8 @@ TEST(StabilizerForces, AnAppSpringWithoutBulletsGyroscopicStepKeepsItsEnergy)
 {
 	const SpringRuns r = runSpring50("spring50-nogyro", false);
 	expectConservative(r, "spring50-nogyro");
-	EXPECT_LE(change(r.bare, 0, 20), -0.5);  // the bare joints lose most of it: the restoration does the keeping
+	runSpring50AtEachStep("spring50-nogyro", false);  // for the report (docs/ENERGY.md): stock's loss is its joints'
+	EXPECT_LE(change(r.bare, 0, 20), -0.5);           // the bare joints lose most of it: the restoration does the keeping
 }
 
 // A hanging 2-link chain whose kinematic anchor a motion state drives at 1 m/s along x for 1 s, then holds still: its
