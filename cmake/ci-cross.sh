@@ -122,14 +122,20 @@ build_quathinge() {  # NAME targets...
     { grep -B5 -A20 -m3 -E "error|Error" "$work/qh-$name-build.log" | head -n 80; fail "QuatHinge build ($name)"; }
 }
 # run_tests NAME: every test of quathinge_tests (but $leave_out) in $shards processes at once (GoogleTest's sharding:
-# qemu runs one thread, the machine has two cores); the summary lines, and the failures in full. Under wine one process:
-# two wine processes starting at once on a new prefix race to create it (one exited, "chdir to …/server-…: No such
-# file or directory"), and wine's run takes about a minute.
-shards=1
-[ "$target" != aarch64 ] || shards=2
+# qemu and the tests run one thread each, the machine has two cores); the summary lines, and the failures in full.
+# Under wine the prefix is made first and one wineserver kept running for the run (start_wine): two wine processes
+# starting at once on a new prefix race to create it (one exited, "chdir to …/server-…: No such file or directory").
+shards=2
+start_wine() {
+  [ "$target" = mingw ] || return 0
+  [ -f "$WINEPREFIX/system.reg" ] || { run wineboot --init >"$work/wineboot.log" 2>&1; /usr/lib/wine/wineserver64 -w; }
+  /usr/lib/wine/wineserver64 -p
+}
+stop_wine() { [ "$target" != mingw ] || /usr/lib/wine/wineserver64 -k || true; }
 run_tests() {
   local name=$1 log=$work/qh-$1-tests shard pids=() status=0 passed=0 skipped=0 n
   [ -z "$leave_out" ] || echo "left out: $leave_out"
+  start_wine
   for ((shard = 0; shard < shards; ++shard)); do
     (cd "$work/qh-$name/tests" && GTEST_TOTAL_SHARDS=$shards GTEST_SHARD_INDEX=$shard \
       run "./quathinge_tests$exe" --gtest_color=no ${leave_out:+--gtest_filter=-$leave_out}) >"$log-$shard.log" 2>&1 &
@@ -142,6 +148,7 @@ run_tests() {
     { grep -B2 -A25 -E "^\[  FAILED  \]|Failure" "$log-$shard.log" || true; } | head -n 150
     tail -n 30 "$log-$shard.log" || true
   done
+  stop_wine
   [ "$status" -eq 0 ] || fail "tests ($name)"
   for ((shard = 0; shard < shards; ++shard)); do
     echo "shard $shard of $shards:"
